@@ -1,0 +1,44 @@
+# msm_sim developer entry points. The repository root is the catkin package; it is built in a
+# workspace under build/ws (ignored by git) whose src/msm_sim is a symlink to this directory.
+#
+#   make demo   install dependencies, build, run the materials lab on a default material
+#   make test   install dependencies, build, run every gtest and rostest, fail on any failure
+#   make bench  build and run the Google Benchmarks (bench/)
+
+SHELL := /bin/bash
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+WS := $(ROOT)/build/ws
+# Debian's catkin and genmsg need Debian's python3; a pyenv python3 earlier in PATH breaks them.
+export PATH := /usr/bin:/bin:$(PATH)
+CATKIN_MAKE := catkin_make -C $(WS) -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
+JOBS ?= -j2
+
+.PHONY: deps workspace build demo test bench format clean
+
+deps:
+	@$(ROOT)/scripts/install_dependencies.sh
+
+workspace:
+	@mkdir -p $(WS)/src
+	@ln -sfn $(ROOT) $(WS)/src/msm_sim
+
+build: deps workspace
+	$(CATKIN_MAKE) $(JOBS)
+
+demo: build
+	source $(WS)/devel/setup.bash && rosrun msm_sim msm_lab compression --model cubic \
+	  --size 2 1 1 --spacing 0.0625 --youngs 1e5 --poisson 0.25 --density 1100
+
+test: build
+	rm -rf $(WS)/build/test_results
+	$(CATKIN_MAKE) $(JOBS) run_tests
+	catkin_test_results --verbose $(WS)/build/test_results
+
+bench: build
+	$(WS)/build/msm_sim/msm_sim_benchmarks
+
+format:
+	clang-format -i $$(git -C $(ROOT) ls-files '*.cpp' '*.h')
+
+clean:
+	rm -rf $(ROOT)/build

@@ -1,0 +1,76 @@
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "msm_sim/core/material.h"
+
+namespace msm_sim::core {
+
+using NodeIndex = std::int32_t;
+using SpringIndex = std::int32_t;
+
+/// The immutable, compiled description of a mass-spring model (the analogue of MuJoCo's mjModel).
+///
+/// Built once by a builder through ModelBuilder, then shared read-only by solvers, integrators and
+/// measurements; everything that changes in time lives in State. Springs are stored as a structure
+/// of arrays so that force loops stream through contiguous memory.
+///
+/// Invariants (established by ModelBuilder::Build):
+/// - every spring joins two distinct, valid nodes and has rest length > 0 and stiffness > 0;
+/// - every mass is > 0;
+/// - incident_springs(i) lists every spring touching node i exactly once.
+class Model {
+ public:
+  int num_nodes() const { return static_cast<int>(masses_.size()); }
+  int num_springs() const { return static_cast<int>(spring_stiffness_.size()); }
+
+  /// Node rest positions, one column per node (m).
+  const Eigen::Matrix3Xd& rest_positions() const { return rest_positions_; }
+  /// Node masses (kg).
+  const Eigen::VectorXd& masses() const { return masses_; }
+
+  /// Spring end points: spring s joins spring_node_a()[s] and spring_node_b()[s].
+  const std::vector<NodeIndex>& spring_node_a() const { return spring_node_a_; }
+  const std::vector<NodeIndex>& spring_node_b() const { return spring_node_b_; }
+  /// Rest lengths (m).
+  const std::vector<double>& spring_rest_length() const { return spring_rest_length_; }
+  /// Linear stiffnesses (N/m).
+  const std::vector<double>& spring_stiffness() const { return spring_stiffness_; }
+
+  /// Compressed adjacency: springs incident to node i are
+  /// incident_springs()[incidence_offsets()[i] .. incidence_offsets()[i + 1]).
+  const std::vector<std::int32_t>& incidence_offsets() const { return incidence_offsets_; }
+  const std::vector<SpringIndex>& incident_springs() const { return incident_springs_; }
+  int num_incident_springs(NodeIndex node) const {
+    return incidence_offsets_[node + 1] - incidence_offsets_[node];
+  }
+
+  /// The material the springs were calibrated for.
+  const Material& material() const { return material_; }
+  /// Volume of the body the model represents (m^3); used by calibration and measurements.
+  double volume() const { return volume_; }
+  /// Characteristic node spacing ã (m): the lattice spacing of a cubic lattice or l = (V/N)^(1/3)
+  /// of a random one. Measurements scale their probes with it (SPEC.md §6).
+  double characteristic_length() const { return characteristic_length_; }
+
+ private:
+  friend class ModelBuilder;
+  explicit Model(const Material& material) : material_(material) {}
+
+  Eigen::Matrix3Xd rest_positions_;
+  Eigen::VectorXd masses_;
+  std::vector<NodeIndex> spring_node_a_;
+  std::vector<NodeIndex> spring_node_b_;
+  std::vector<double> spring_rest_length_;
+  std::vector<double> spring_stiffness_;
+  std::vector<std::int32_t> incidence_offsets_;
+  std::vector<SpringIndex> incident_springs_;
+  Material material_;
+  double volume_ = 0.0;
+  double characteristic_length_ = 0.0;
+};
+
+}  // namespace msm_sim::core

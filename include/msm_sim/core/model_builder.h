@@ -1,0 +1,46 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "msm_sim/core/model.h"
+
+namespace msm_sim::core {
+
+/// Collects nodes and springs and compiles them into an immutable Model.
+///
+/// Lattice builders use it as their single way of making a Model, so that every Model satisfies
+/// the invariants documented in model.h. Rest lengths are taken from the node rest positions.
+class ModelBuilder {
+ public:
+  explicit ModelBuilder(const Material& material) : material_(material) {}
+
+  /// Adds a node and returns its index. Precondition: mass > 0 and finite.
+  NodeIndex AddNode(const Eigen::Vector3d& rest_position, double mass);
+  /// Adds a spring between two existing distinct nodes; returns its index.
+  /// Precondition: stiffness > 0 and the nodes do not coincide.
+  SpringIndex AddSpring(NodeIndex a, NodeIndex b, double stiffness);
+  /// Adds `extra` (N/m) to an existing spring's stiffness.
+  void AddStiffness(SpringIndex spring, double extra);
+
+  int num_nodes() const { return static_cast<int>(masses_.size()); }
+  int num_springs() const { return static_cast<int>(stiffness_.size()); }
+  const Eigen::Vector3d& node_position(NodeIndex i) const { return positions_[i]; }
+  double spring_rest_length(SpringIndex s) const { return rest_length_[s]; }
+
+  /// Compiles the model. Throws std::invalid_argument if there are no nodes or if volume or
+  /// characteristic length are not positive.
+  Model Build(double volume, double characteristic_length) const;
+
+ private:
+  Material material_;
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<double> masses_;
+  std::vector<NodeIndex> node_a_;
+  std::vector<NodeIndex> node_b_;
+  std::vector<double> rest_length_;
+  std::vector<double> stiffness_;
+};
+
+}  // namespace msm_sim::core

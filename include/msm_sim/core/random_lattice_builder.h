@@ -1,0 +1,42 @@
+#pragma once
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "msm_sim/core/material.h"
+#include "msm_sim/core/model.h"
+
+namespace msm_sim::core {
+
+/// How spring stiffness varies with rest length in a random lattice (SPEC.md §2).
+enum class RandomStiffnessLaw {
+  kUniform,        ///< every spring has the same k
+  kInverseSquare,  ///< k_i = c / L_i^2: every spring contributes equally to the moduli
+};
+
+/// A box [0, size] filled by random sequential addition (thesis 2.3.3).
+struct RandomLatticeOptions {
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< m, each > 0
+  /// Characteristic spacing l (m); the target node count is N = V / l^3.
+  double spacing = 0.1;
+  double min_distance = 0.8;  ///< minL as a multiple of l, in (0, max_distance)
+  double max_distance = 1.7;  ///< maxL as a multiple of l: pairs closer than this get a spring
+  std::uint64_t seed = 1;     ///< same seed, same model
+  RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
+  /// Random sequential addition gives up after this many draws per requested node.
+  int max_draws_per_node = 1000;
+  int max_nodes = 5'000'000;
+};
+
+/// Builds a calibrated random MSM of the box: N = round(V / l^3) points at least minL apart
+/// (spatial-hash rejection), a spring between every pair closer than maxL, node mass rho V / N,
+/// and stiffnesses scaled so that (1 / (6V)) sum k_i L_i^2 = E (SPEC.md §2; plain springs, so
+/// nu = 1/4 whatever material nu is).
+///
+/// Throws std::invalid_argument for bad options (non-positive sizes, spacing larger than the box,
+/// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place
+/// the requested nodes (minL too large for the density).
+Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& options);
+
+}  // namespace msm_sim::core

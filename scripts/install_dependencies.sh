@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages msm_sim needs to build and test (ROS Noetic from Debian's own
+# archive; there is no /opt/ros and no rosdep here). Installs only what is missing; uses sudo when
+# not root. Safe to run repeatedly.
+set -euo pipefail
+
+packages=(
+  build-essential cmake
+  catkin python3-catkin-pkg ros-core-dev ros-message-generation ros-message-runtime
+  libroscpp-dev librosbag-dev libtf2-dev libtf2-ros-dev
+  libstd-msgs-dev libgeometry-msgs-dev ros-std-msgs ros-geometry-msgs
+  python3-rostest librostest-dev python3-roslaunch
+  liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
+  libcli11-dev nlohmann-json3-dev
+  googletest libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+missing=()
+for package in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+
+if [ "$(id -u)" -eq 0 ]; then
+  sudo=()
+elif command -v sudo >/dev/null 2>&1; then
+  sudo=(sudo)
+else
+  echo "install_dependencies: missing packages (${missing[*]}) and neither root nor sudo" >&2
+  exit 1
+fi
+echo "install_dependencies: installing ${missing[*]}"
+"${sudo[@]}" apt-get update -qq
+DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq --no-install-recommends \
+  "${missing[@]}"

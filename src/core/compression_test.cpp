@@ -1,0 +1,117 @@
+#include "msm_sim/core/compression_test.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "msm_sim/core/dof_constraints.h"
+#include "msm_sim/core/hardy_stress.h"
+#include "msm_sim/core/linear_fit.h"
+#include "msm_sim/core/momentum_flow.h"
+#include "msm_sim/core/strain_probe.h"
+
+namespace msm_sim::core {
+
+double StressCorrectedPoisson(const Eigen::Matrix3d& e, const Eigen::Matrix3d& s) {
+  // From e_xx = (s_xx - nu (s_yy + s_zz)) / E and e_yy = (s_yy - nu (s_xx + s_zz)) / E.
+  const double numerator = e(0, 0) * s(1, 1) - e(1, 1) * s(0, 0);
+  const double denominator = e(0, 0) * (s(0, 0) + s(2, 2)) - e(1, 1) * (s(1, 1) + s(2, 2));
+  return numerator / denominator;
+}
+
+CompressionTestResult RunCompressionTest(const Model& model, const CompressionTestOptions& options) {
+  if (!(options.strain > 0.0 && options.strain < 0.5)) {
+    throw std::invalid_argument("compressive strain must lie in (0, 0.5), got " +
+                                std::to_string(options.strain));
+  }
+  const Eigen::Vector3d& size = options.body_size;
+  const Eigen::Vector3d centre = 0.5 * size;
+  const auto& rest = model.rest_positions();
+  const int n = model.num_nodes();
+  const double longest_spring =
+      model.num_springs() > 0 ? *std::max_element(model.spring_rest_length().begin(),
+                                                  model.spring_rest_length().end())
+                              : model.characteristic_length();
+  const double end_width =
+      options.end_region_width > 0.0 ? options.end_region_width : 1.5 * longest_spring;
+  const double central_half_length = 0.5 * options.central_length_fraction * size.x();
+  if (end_width >= 0.5 * size.x() - central_half_length) {
+    throw std::invalid_argument(
+        "the block is too short: end regions of " + std::to_string(end_width) +
+        " m leave no free middle; make it longer or the lattice finer");
+  }
+
+  CompressionTestResult result;
+  // Prescribed ends: affine compression about the centre along x, free laterally.
+  Eigen::Matrix3Xd positions = rest;
+  DofConstraints constraints(n);
+  for (int i = 0; i < n; ++i) {
+    // The initial guess is the same affine compression everywhere (no lateral expansion).
+    positions(0, i) = centre.x() + (1.0 - options.strain) * (rest(0, i) - centre.x());
+    if (rest(0, i) < end_width || rest(0, i) > size.x() - end_width) {
+      constraints.FixDof(i, 0);
+      ++result.end_nodes;
+    }
+  }
+  if (result.end_nodes == 0) throw std::invalid_argument("no node lies in the end regions");
+
+  StaticSolverOptions solver = options.solver;
+  const double a = model.characteristic_length();
+  if (solver.force_tolerance <= 0.0) {
+    solver.force_tolerance = 1e-7 * model.material().youngs_modulus() * a * a * options.strain;
+  }
+  result.solver =
+      SolveStaticEquilibrium(model, constraints, Eigen::Matrix3Xd::Zero(3, n), solver, &positions);
+
+  // E from the momentum flow through the middle yz plane.
+  const Eigen::Vector3d flow =
+      MomentumFlowThroughPlane(model, positions, MaterialPlane{centre, Eigen::Vector3d::UnitX()});
+  result.axial_force = -flow.x();
+  const double area = size.y() * size.z();
+  result.youngs_measured = (result.axial_force / area) / options.strain;
+
+  // nu from displacement regressions over the central region.
+  const Eigen::Matrix3Xd displacement = positions - rest;
+  std::vector<double> xs, ux, ys, uy, zs, uz;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d r = rest.col(i) - centre;
+    if (std::abs(r.x()) > central_half_length) continue;
+    if (std::abs(r.y()) > 0.5 * options.central_width_fraction * size.y()) continue;
+    if (std::abs(r.z()) > 0.5 * options.central_width_fraction * size.z()) continue;
+    xs.push_back(r.x());
+    ux.push_back(displacement(0, i));
+    ys.push_back(r.y());
+    uy.push_back(displacement(1, i));
+    zs.push_back(r.z());
+    uz.push_back(displacement(2, i));
+  }
+  result.central_nodes = static_cast<int>(xs.size());
+  if (result.central_nodes < 8) {
+    throw std::invalid_argument("only " + std::to_string(result.central_nodes) +
+                                " nodes in the central region; refine the lattice");
+  }
+  const double strain_xx = LeastSquaresSlope(xs, ux);
+  const double strain_lateral = 0.5 * (LeastSquaresSlope(ys, uy) + LeastSquaresSlope(zs, uz));
+  result.poisson_measured = -strain_lateral / strain_xx;
+
+  // Stress-corrected values from point probes at the centre (thesis 3.1).
+  const StrainProbe probe(rest);
+  const auto centre_strain = probe.StrainAt(centre, displacement, 0.5 * a);
+  result.centre_stress = HardyStress(model, positions, centre, 1.3 * a);
+  if (centre_strain) {
+    result.centre_strain = *centre_strain;
+    const Eigen::Matrix3d& e = result.centre_strain;
+    const Eigen::Matrix3d& s = result.centre_stress;
+    result.poisson_stress_corrected = StressCorrectedPoisson(e, s);
+    result.youngs_stress_corrected =
+        (s(0, 0) - result.poisson_stress_corrected * (s(1, 1) + s(2, 2))) / e(0, 0);
+  } else {
+    result.poisson_stress_corrected = std::nan("");
+    result.youngs_stress_corrected = std::nan("");
+  }
+  return result;
+}
+
+}  // namespace msm_sim::core

@@ -1,0 +1,104 @@
+#include "msm_sim/core/random_lattice_builder.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "msm_sim/core/model_builder.h"
+#include "msm_sim/core/spatial_hash_grid.h"
+
+namespace msm_sim::core {
+namespace {
+
+void Validate(const RandomLatticeOptions& options) {
+  if (!options.size.allFinite() || (options.size.array() <= 0.0).any()) {
+    throw std::invalid_argument("box size must be finite and > 0 along every axis");
+  }
+  if (!std::isfinite(options.spacing) || options.spacing <= 0.0) {
+    throw std::invalid_argument("random lattice spacing l must be finite and > 0");
+  }
+  if (options.spacing > options.size.minCoeff()) {
+    throw std::invalid_argument("random lattice spacing " + std::to_string(options.spacing) +
+                                " m is larger than the smallest box edge " +
+                                std::to_string(options.size.minCoeff()) + " m");
+  }
+  if (!(options.min_distance > 0.0) || !(options.max_distance > options.min_distance) ||
+      !std::isfinite(options.max_distance)) {
+    throw std::invalid_argument("need 0 < min distance < max distance (multiples of l), got " +
+                                std::to_string(options.min_distance) + " and " +
+                                std::to_string(options.max_distance));
+  }
+}
+
+}  // namespace
+
+Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& options) {
+  Validate(options);
+  const double volume = options.size.prod();
+  const double l = options.spacing;
+  const double requested = std::round(volume / (l * l * l));
+  if (requested > options.max_nodes) {
+    throw std::invalid_argument("the random lattice would have " + std::to_string(requested) +
+                                " nodes, more than " + std::to_string(options.max_nodes) +
+                                "; use a larger spacing");
+  }
+  const int target = std::max(1, static_cast<int>(requested));
+  const double min_length = options.min_distance * l;
+  const double max_length = options.max_distance * l;
+
+  // Random sequential addition with a spatial hash for the rejection test.
+  std::mt19937_64 rng(options.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  SpatialHashGrid placed_grid(min_length);
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(target);
+  const long long max_draws = static_cast<long long>(options.max_draws_per_node) * target;
+  for (long long draw = 0; draw < max_draws && static_cast<int>(points.size()) < target; ++draw) {
+    const Eigen::Vector3d p(unit(rng) * options.size.x(), unit(rng) * options.size.y(),
+                            unit(rng) * options.size.z());
+    if (placed_grid.AnyWithin(p, min_length)) continue;
+    placed_grid.Insert(static_cast<int>(points.size()), p);
+    points.push_back(p);
+  }
+  if (static_cast<int>(points.size()) < target) {
+    throw std::runtime_error("random sequential addition placed only " +
+                             std::to_string(points.size()) + " of " + std::to_string(target) +
+                             " nodes at min distance " + std::to_string(options.min_distance) +
+                             " l; lower the min distance");
+  }
+
+  const double node_mass = material.density() * volume / target;
+  ModelBuilder builder(material);
+  for (const Eigen::Vector3d& p : points) builder.AddNode(p, node_mass);
+
+  struct Pair {
+    int i, j;
+    double length;
+  };
+  std::vector<Pair> pairs;
+  SpatialHashGrid connect_grid(max_length);
+  for (int i = 0; i < target; ++i) connect_grid.Insert(i, points[i]);
+  for (int i = 0; i < target; ++i) {
+    connect_grid.ForEachWithin(points[i], max_length, [&](int j, const Eigen::Vector3d& q) {
+      if (j > i) pairs.push_back(Pair{i, j, (q - points[i]).norm()});
+    });
+  }
+  if (pairs.empty()) {
+    throw std::invalid_argument("no two nodes are closer than max distance; raise --max-dist");
+  }
+
+  // Calibration (SPEC.md §2): E = (1 / (6V)) sum k_i L_i^2. With k_i = c / L_i^2 every spring
+  // contributes c, with uniform k_i = c every spring contributes c L_i^2.
+  const bool inverse_square = options.stiffness_law == RandomStiffnessLaw::kInverseSquare;
+  double sum_shape = 0.0;
+  for (const Pair& pair : pairs) sum_shape += inverse_square ? 1.0 : pair.length * pair.length;
+  const double c = 6.0 * volume * material.youngs_modulus() / sum_shape;
+  for (const Pair& pair : pairs) {
+    builder.AddSpring(pair.i, pair.j, inverse_square ? c / (pair.length * pair.length) : c);
+  }
+  return builder.Build(volume, std::cbrt(volume / target));
+}
+
+}  // namespace msm_sim::core

@@ -1,0 +1,45 @@
+#include "msm_sim/core/spatial_hash_grid.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace msm_sim::core {
+
+SpatialHashGrid::SpatialHashGrid(double cell_size) : cell_size_(cell_size) {
+  if (!(cell_size > 0.0)) throw std::invalid_argument("spatial hash cell size must be > 0");
+}
+
+Eigen::Vector3i SpatialHashGrid::CellOf(const Eigen::Vector3d& point) const {
+  return (point / cell_size_).array().floor().cast<int>();
+}
+
+SpatialHashGrid::CellKey SpatialHashGrid::Key(const Eigen::Vector3i& cell) {
+  // 21 bits per axis (offset to be non-negative) covers +-1e6 cells per axis.
+  constexpr std::int64_t kOffset = 1 << 20;
+  constexpr std::int64_t kMask = (std::int64_t{1} << 21) - 1;
+  return ((cell.x() + kOffset) & kMask) | (((cell.y() + kOffset) & kMask) << 21) |
+         (((cell.z() + kOffset) & kMask) << 42);
+}
+
+void SpatialHashGrid::Insert(int index, const Eigen::Vector3d& point) {
+  cells_[Key(CellOf(point))].push_back(Entry{index, point});
+}
+
+bool SpatialHashGrid::AnyWithin(const Eigen::Vector3d& query, double radius) const {
+  const Eigen::Vector3i centre = CellOf(query);
+  const double radius_sq = radius * radius;
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        const auto it = cells_.find(Key(centre + Eigen::Vector3i(dx, dy, dz)));
+        if (it == cells_.end()) continue;
+        for (const Entry& entry : it->second) {
+          if ((entry.point - query).squaredNorm() < radius_sq) return true;
+        }
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace msm_sim::core

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace msm_sim::lab {
+
+/// Which model the lab builds, as given on the command line (SI units).
+struct ModelArguments {
+  std::string model = "cubic";            ///< cubic | random
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();
+  double spacing = 0.0;
+  double youngs = 0.0;
+  double poisson = 0.25;
+  double density = 1000.0;
+  std::string construction = "node";      ///< node | corner (cubic only)
+  std::optional<Eigen::Vector4d> rotate;  ///< axis x, y, z and angle in degrees (cubic only)
+  std::uint64_t seed = 1;                 ///< random only
+  double min_dist = 0.8;                  ///< random only, multiple of l
+  double max_dist = 1.9;                  ///< random only, multiple of l
+  std::string stiffness = "inverse-square";  ///< random only: uniform | inverse-square
+};
+
+enum class LabCommand { kCompression, kDeflection };
+
+struct LabArguments {
+  LabCommand command = LabCommand::kCompression;
+  ModelArguments model;
+  double strain = 0.01;  ///< compression only
+  double force = 0.0;    ///< deflection only, N
+  bool json = false;
+};
+
+/// Outcome of parsing: either arguments to run, or a message and exit code (help: 0, error: 2).
+struct ParseOutcome {
+  std::optional<LabArguments> arguments;
+  std::string message;
+  int exit_code = 0;
+};
+
+/// Parses `msm_lab <command> [options]`. Never throws and never exits the process.
+ParseOutcome ParseLabArguments(const std::vector<std::string>& argv);
+
+}  // namespace msm_sim::lab

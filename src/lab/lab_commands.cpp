@@ -1,0 +1,195 @@
+#include "lab_commands.h"
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "msm_sim/core/cantilever_test.h"
+#include "msm_sim/core/compression_test.h"
+#include "msm_sim/core/cubic_lattice_builder.h"
+#include "msm_sim/core/model_statistics.h"
+#include "msm_sim/core/random_lattice_builder.h"
+
+namespace msm_sim::lab {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json ModelJson(const core::ModelStatistics& stats) {
+  return Json{{"nodes", stats.nodes},
+              {"springs", stats.springs},
+              {"mean_springs_per_node", stats.mean_springs_per_node},
+              {"mean_spring_length", stats.mean_spring_length},
+              {"spring_length_stddev", stats.spring_length_stddev},
+              {"total_mass", stats.total_mass}};
+}
+
+Json SolverJson(const core::StaticSolverReport& report) {
+  return Json{{"converged", report.converged},
+              {"newton_iterations", report.newton_iterations},
+              {"cg_iterations", report.linear_iterations},
+              {"max_residual_force", report.max_residual_force}};
+}
+
+void PrintModelTable(const ModelArguments& arguments, const core::ModelStatistics& stats,
+                     std::ostream& out) {
+  out << "model            " << arguments.model
+      << (arguments.model == "cubic" ? " (" + arguments.construction + "-centred)" : "") << "\n"
+      << "nodes            " << stats.nodes << "\n"
+      << "springs          " << stats.springs << "\n"
+      << "<S>              " << stats.mean_springs_per_node << "\n"
+      << "<L>, dL          " << stats.mean_spring_length << " m, " << stats.spring_length_stddev
+      << " m\n"
+      << "total mass       " << stats.total_mass << " kg\n";
+}
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int ReportSolverFailure(const core::StaticSolverReport& report, std::ostream& err) {
+  err << "msm_lab: error: static equilibrium " << report.message << "\n";
+  return 1;
+}
+
+int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  const core::Model model = BuildLabModel(arguments.model);
+  const core::ModelStatistics stats = core::ComputeModelStatistics(model);
+  core::CompressionTestOptions options;
+  options.body_size = arguments.model.size;
+  options.strain = arguments.strain;
+  const core::CompressionTestResult result = core::RunCompressionTest(model, options);
+  if (!result.solver.converged) return ReportSolverFailure(result.solver, err);
+  const double seconds = Seconds(start);
+  const double youngs = arguments.model.youngs;
+  const double youngs_error = result.youngs_measured / youngs - 1.0;
+
+  if (arguments.json) {
+    Json json{{"command", "compression"},
+              {"model", arguments.model.model},
+              {"youngs_target", youngs},
+              {"poisson_target", arguments.model.poisson},
+              {"youngs_measured", result.youngs_measured},
+              {"poisson_measured", result.poisson_measured},
+              {"youngs_relative_error", youngs_error},
+              {"youngs_stress_corrected", result.youngs_stress_corrected},
+              {"poisson_stress_corrected", result.poisson_stress_corrected},
+              {"axial_force", result.axial_force},
+              {"strain", arguments.strain}};
+    json.update(ModelJson(stats));
+    json["solver"] = SolverJson(result.solver);
+    json["seconds"] = seconds;
+    out << json.dump() << "\n";
+    return 0;
+  }
+  out << "uniaxial compression along x, strain " << arguments.strain << "\n";
+  PrintModelTable(arguments.model, stats, out);
+  out << std::setprecision(5);
+  out << "\n                  target        measured      stress-corrected\n"
+      << "E [Pa]            " << std::setw(12) << youngs << "  " << std::setw(12)
+      << result.youngs_measured << "  " << std::setw(12) << result.youngs_stress_corrected
+      << "\n"
+      << "nu                " << std::setw(12) << arguments.model.poisson << "  "
+      << std::setw(12) << result.poisson_measured << "  " << std::setw(12)
+      << result.poisson_stress_corrected << "\n"
+      << "E error           " << std::setw(11) << 100.0 * youngs_error << " %\n"
+      << "\nsolver: " << result.solver.message << "\n"
+      << "time: " << seconds << " s\n";
+  return 0;
+}
+
+int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  const core::Model model = BuildLabModel(arguments.model);
+  const core::ModelStatistics stats = core::ComputeModelStatistics(model);
+  core::CantileverTestOptions options;
+  options.body_size = arguments.model.size;
+  options.total_force = arguments.force;
+  const core::CantileverTestResult result = core::RunCantileverTest(model, options);
+  if (!result.solver.converged) return ReportSolverFailure(result.solver, err);
+  const double seconds = Seconds(start);
+
+  if (arguments.json) {
+    Json profile = Json::array();
+    for (const core::DeflectionSample& sample : result.profile) {
+      profile.push_back({sample.x, sample.deflection, sample.theory});
+    }
+    Json json{{"command", "deflection"},
+              {"model", arguments.model.model},
+              {"youngs_target", arguments.model.youngs},
+              {"poisson_target", arguments.model.poisson},
+              {"force", arguments.force},
+              {"tip_deflection", result.tip_deflection},
+              {"theory_tip_deflection", result.theory_tip_deflection},
+              {"beam_length", result.beam_length},
+              {"profile", profile}};
+    json.update(ModelJson(stats));
+    json["solver"] = SolverJson(result.solver);
+    json["seconds"] = seconds;
+    out << json.dump() << "\n";
+    return 0;
+  }
+  out << "cantilever, clamped at x = 0, force " << arguments.force << " N in -z at the end\n";
+  PrintModelTable(arguments.model, stats, out);
+  out << std::setprecision(5) << "beam length      " << result.beam_length
+      << " m (frozen layer to loaded layer)\n\n"
+      << "       x [m]   deflection [m]   Euler-Bernoulli [m]\n";
+  for (const core::DeflectionSample& sample : result.profile) {
+    out << std::setw(12) << sample.x << "  " << std::setw(15) << sample.deflection << "  "
+        << std::setw(18) << sample.theory << "\n";
+  }
+  out << "\ntip deflection   " << result.tip_deflection << " m, theory "
+      << result.theory_tip_deflection << " m ("
+      << 100.0 * (result.tip_deflection / result.theory_tip_deflection - 1.0) << " %)\n"
+      << "solver: " << result.solver.message << "\n"
+      << "time: " << seconds << " s\n";
+  return 0;
+}
+
+}  // namespace
+
+core::Model BuildLabModel(const ModelArguments& arguments) {
+  const core::Material material =
+      core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density);
+  if (arguments.poisson != 0.25) {
+    std::ostringstream message;
+    message << "plain spring networks are locked at nu = 0.25 (Cauchy relation, SPEC.md §1); "
+            << "nu = " << arguments.poisson << " needs the extended MSM, which this build lacks";
+    throw std::invalid_argument(message.str());
+  }
+  if (arguments.model == "cubic") {
+    core::CubicLatticeOptions options;
+    options.size = arguments.size;
+    options.spacing = arguments.spacing;
+    options.construction = arguments.construction == "corner"
+                               ? core::CubicConstruction::kElementCorner
+                               : core::CubicConstruction::kNodeCentred;
+    if (arguments.rotate) {
+      options.rotation_axis = arguments.rotate->head<3>();
+      options.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
+    }
+    return core::BuildCubicLattice(material, options);
+  }
+  core::RandomLatticeOptions options;
+  options.size = arguments.size;
+  options.spacing = arguments.spacing;
+  options.seed = arguments.seed;
+  options.min_distance = arguments.min_dist;
+  options.max_distance = arguments.max_dist;
+  options.stiffness_law = arguments.stiffness == "uniform"
+                              ? core::RandomStiffnessLaw::kUniform
+                              : core::RandomStiffnessLaw::kInverseSquare;
+  return core::BuildRandomLattice(material, options);
+}
+
+int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
+  return arguments.command == LabCommand::kCompression ? RunCompression(arguments, out, err)
+                                                       : RunDeflection(arguments, out, err);
+}
+
+}  // namespace msm_sim::lab

@@ -1,0 +1,187 @@
+// Runs the real msm_lab executable and checks the command-line contract: outputs, error lines and
+// exit codes (0 ok, 1 failed run, 2 bad arguments; never a signal).
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "lab_arguments.h"
+
+namespace {
+
+struct Run {
+  int exit_code = -1;
+  bool signalled = false;
+  std::string out;
+  std::string err;
+};
+
+Run RunLab(const std::string& arguments) {
+  const std::string err_file = ::testing::TempDir() + "msm_lab_stderr.txt";
+  const std::string command =
+      std::string(MSM_LAB_EXECUTABLE) + " " + arguments + " 2>" + err_file;
+  Run run;
+  FILE* pipe = popen(command.c_str(), "r");
+  std::array<char, 4096> buffer{};
+  std::size_t n = 0;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
+  const int status = pclose(pipe);
+  run.signalled = WIFSIGNALED(status);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream err(err_file);
+  std::stringstream text;
+  text << err.rdbuf();
+  run.err = text.str();
+  return run;
+}
+
+int CountLines(const std::string& text) {
+  int lines = 0;
+  for (char c : text) lines += c == '\n';
+  return lines;
+}
+
+const char* kCubic =
+    "compression --model cubic --size 1 0.5 0.5 --spacing 0.0625 --youngs 2e5 --poisson 0.25";
+
+TEST(LabCli, CompressionJsonHasTheContractKeys) {
+  const Run run = RunLab(std::string(kCubic) + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  for (const char* key : {"youngs_target", "poisson_target", "youngs_measured", "poisson_measured",
+                          "nodes", "springs", "mean_springs_per_node", "seconds"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  EXPECT_EQ(json["nodes"], 16 * 8 * 8);
+  EXPECT_NEAR(json["youngs_measured"].get<double>() / 2e5, 1.0, 0.03);
+  EXPECT_NEAR(json["poisson_measured"].get<double>(), 0.25, 0.01);
+}
+
+TEST(LabCli, CompressionTableIsReadable) {
+  const Run run = RunLab(std::string(kCubic) + " --construction corner --rotate 0 0 1 10");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("E [Pa]"), std::string::npos);
+  EXPECT_NE(run.out.find("nodes"), std::string::npos);
+}
+
+TEST(LabCli, RandomCompressionIsDeterministicPerSeed) {
+  const std::string command =
+      "compression --model random --size 1.2 0.6 0.6 --spacing 0.1 --youngs 1e4 --poisson 0.25 "
+      "--seed 7 --min-dist 0.8 --max-dist 1.9 --json";
+  const Run first = RunLab(command);
+  const Run second = RunLab(command);
+  ASSERT_EQ(first.exit_code, 0) << first.err;
+  const auto a = nlohmann::json::parse(first.out);
+  const auto b = nlohmann::json::parse(second.out);
+  EXPECT_EQ(a["youngs_measured"], b["youngs_measured"]);
+  EXPECT_EQ(a["springs"], b["springs"]);
+}
+
+TEST(LabCli, DeflectionReportsProfileAndTheory) {
+  const Run run = RunLab(
+      "deflection --model cubic --size 4 1 1 --spacing 0.25 --youngs 1e5 --poisson 0.25 "
+      "--force 0.1 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_GT(json["tip_deflection"].get<double>(), 0.0);
+  EXPECT_GT(json["theory_tip_deflection"].get<double>(), 0.0);
+  ASSERT_EQ(json["profile"].size(), 16u);
+  EXPECT_EQ(json["profile"][0].size(), 3u);
+}
+
+struct BadInput {
+  const char* arguments;
+  int exit_code;
+  const char* mentions;
+};
+
+class LabCliBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(LabCliBadInput, PrintsOneClearErrorLineAndExitCode) {
+  const BadInput& bad = GetParam();
+  const Run run = RunLab(bad.arguments);
+  EXPECT_FALSE(run.signalled);
+  EXPECT_EQ(run.exit_code, bad.exit_code) << run.err;
+  EXPECT_EQ(CountLines(run.err), 1) << run.err;
+  EXPECT_EQ(run.err.rfind("msm_lab: error: ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find(bad.mentions), std::string::npos) << run.err;
+}
+
+
+INSTANTIATE_TEST_SUITE_P(
+    Contract, LabCliBadInput,
+    ::testing::Values(
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs -5 "
+                 "--poisson 0.25",
+                 2, "Young's modulus"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.5",
+                 2, "Poisson"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25 --density 0",
+                 2, "density"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs nan "
+                 "--poisson 0.25",
+                 2, "Young's modulus"},
+        BadInput{"compression --model cubic --size 1 -0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25",
+                 2, "size"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 3 --youngs 1e5 "
+                 "--poisson 0.25",
+                 2, "larger than"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25 --frobnicate",
+                 2, "frobnicate"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing", 2, "spacing"},
+        BadInput{"compression --model cubic --size 1 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25",
+                 2, "size"},
+        BadInput{"compression --model foam --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25",
+                 2, "model"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.4",
+                 2, "extended MSM"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs abc "
+                 "--poisson 0.25",
+                 2, "youngs"},
+        BadInput{"stretch", 2, "stretch"}, BadInput{"", 2, "subcommand"},
+        BadInput{"compression --model random --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25 --min-dist 1.4 --max-dist 2",
+                 1, "random sequential addition"}));
+
+TEST(LabCli, HelpExitsZero) {
+  const Run run = RunLab("--help");
+  EXPECT_EQ(run.exit_code, 0);
+  EXPECT_NE(run.out.find("compression"), std::string::npos);
+}
+
+TEST(LabArguments, ParsesTheFullCompressionContract) {
+  const auto outcome = msm_sim::lab::ParseLabArguments(
+      {"msm_lab", "compression", "--model", "random", "--size", "3", "2", "1", "--spacing",
+       "0.1", "--youngs", "5e4", "--poisson", "0.25", "--construction", "corner", "--density",
+       "900", "--strain", "0.02", "--rotate", "0", "0", "1", "30", "--seed", "9", "--min-dist",
+       "0.85", "--max-dist", "1.6", "--json"});
+  ASSERT_TRUE(outcome.arguments.has_value()) << outcome.message;
+  const auto& a = *outcome.arguments;
+  EXPECT_EQ(a.model.model, "random");
+  EXPECT_EQ(a.model.size, Eigen::Vector3d(3, 2, 1));
+  EXPECT_DOUBLE_EQ(a.model.youngs, 5e4);
+  EXPECT_DOUBLE_EQ(a.model.density, 900);
+  EXPECT_DOUBLE_EQ(a.strain, 0.02);
+  EXPECT_EQ(a.model.construction, "corner");
+  ASSERT_TRUE(a.model.rotate.has_value());
+  EXPECT_DOUBLE_EQ((*a.model.rotate)[3], 30.0);
+  EXPECT_EQ(a.model.seed, 9u);
+  EXPECT_DOUBLE_EQ(a.model.min_dist, 0.85);
+  EXPECT_DOUBLE_EQ(a.model.max_dist, 1.6);
+  EXPECT_TRUE(a.json);
+}
+
+}  // namespace
