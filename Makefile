@@ -1,5 +1,5 @@
 # msm_sim developer entry points. The repository root is the catkin package; it is built in a
-# workspace under build/ws (ignored by git) whose src/msm_sim is a symlink to this directory.
+# catkin workspace under build/ws (ignored by git).
 #
 #   make demo   install dependencies, build, run the materials lab on a default material
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
@@ -18,9 +18,17 @@ JOBS ?= -j2
 deps:
 	@$(ROOT)/scripts/install_dependencies.sh
 
+# src/msm_sim mirrors the package's top-level entries as symlinks, all but build/: a symlink to
+# the whole repository would contain the workspace itself and loop tools that walk the package
+# directory (rosrun, roslaunch's find).
 workspace:
-	@mkdir -p $(WS)/src
-	@ln -sfn $(ROOT) $(WS)/src/msm_sim
+	@if [ -L $(WS)/src/msm_sim ]; then rm $(WS)/src/msm_sim; fi
+	@mkdir -p $(WS)/src/msm_sim
+	@for entry in $(ROOT)/*; do \
+	  name=$$(basename "$$entry"); \
+	  if [ "$$name" != build ]; then ln -sfn "$$entry" "$(WS)/src/msm_sim/$$name"; fi; \
+	done
+	@find $(WS)/src/msm_sim -maxdepth 1 -xtype l -delete
 
 build: deps workspace
 	$(CATKIN_MAKE) $(JOBS)

@@ -21,7 +21,8 @@ double StressCorrectedPoisson(const Eigen::Matrix3d& e, const Eigen::Matrix3d& s
   return numerator / denominator;
 }
 
-CompressionTestResult RunCompressionTest(const Model& model, const CompressionTestOptions& options) {
+CompressionTestResult RunCompressionTest(const Model& model,
+                                         const CompressionTestOptions& options) {
   if (!(options.strain > 0.0 && options.strain < 0.5)) {
     throw std::invalid_argument("compressive strain must lie in (0, 0.5), got " +
                                 std::to_string(options.strain));
@@ -31,16 +32,16 @@ CompressionTestResult RunCompressionTest(const Model& model, const CompressionTe
   const auto& rest = model.rest_positions();
   const int n = model.num_nodes();
   const double longest_spring =
-      model.num_springs() > 0 ? *std::max_element(model.spring_rest_length().begin(),
-                                                  model.spring_rest_length().end())
-                              : model.characteristic_length();
+      model.num_springs() > 0
+          ? *std::max_element(model.spring_rest_length().begin(), model.spring_rest_length().end())
+          : model.characteristic_length();
   const double end_width =
       options.end_region_width > 0.0 ? options.end_region_width : 1.5 * longest_spring;
   const double central_half_length = 0.5 * options.central_length_fraction * size.x();
   if (end_width >= 0.5 * size.x() - central_half_length) {
-    throw std::invalid_argument(
-        "the block is too short: end regions of " + std::to_string(end_width) +
-        " m leave no free middle; make it longer or the lattice finer");
+    throw std::invalid_argument("the block is too short: end regions of " +
+                                std::to_string(end_width) +
+                                " m leave no free middle; make it longer or the lattice finer");
   }
 
   CompressionTestResult result;

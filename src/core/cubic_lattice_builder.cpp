@@ -17,9 +17,9 @@ namespace {
 // 18 A (edge) and B (face-diagonal) neighbours of a cubic lattice node.
 constexpr int kNumHalfOffsets = 9;
 const std::array<Eigen::Vector3i, kNumHalfOffsets> kHalfOffsets = {
-    Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, 0, 1),
+    Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(0, 1, 0),  Eigen::Vector3i(0, 0, 1),
     Eigen::Vector3i(1, 1, 0),  Eigen::Vector3i(1, -1, 0), Eigen::Vector3i(1, 0, 1),
-    Eigen::Vector3i(1, 0, -1), Eigen::Vector3i(0, 1, 1), Eigen::Vector3i(0, 1, -1)};
+    Eigen::Vector3i(1, 0, -1), Eigen::Vector3i(0, 1, 1),  Eigen::Vector3i(0, 1, -1)};
 
 // Index of d in kHalfOffsets, or -(index + 1) if -d is there; 0-based. Returns kNumHalfOffsets
 // for anything else (body diagonals, zero).
@@ -113,11 +113,11 @@ bool InsideBox(const Eigen::Vector3d& p, const Eigen::Vector3d& size, double tol
 
 LatticeFrame MakeFrame(const CubicLatticeOptions& options, double unit, double parity_shift) {
   LatticeFrame frame;
-  frame.rotation = options.rotation_angle == 0.0
-                       ? Eigen::Matrix3d::Identity()
-                       : Eigen::AngleAxisd(options.rotation_angle,
-                                           options.rotation_axis.normalized())
-                             .toRotationMatrix();
+  frame.rotation =
+      options.rotation_angle == 0.0
+          ? Eigen::Matrix3d::Identity()
+          : Eigen::AngleAxisd(options.rotation_angle, options.rotation_axis.normalized())
+                .toRotationMatrix();
   frame.centre = 0.5 * options.size;
   frame.unit = unit;
   // Centre the unrotated lattice in the box: with an even number of cells along an axis the
@@ -259,7 +259,8 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
   for (int node = 0; node < n; ++node) {
     for (int o = 0; o < kNumHalfOffsets; ++o) {
       const double k = stiffness[node * kNumHalfOffsets + o];
-      if (k > 0.0) builder.AddSpring(node, corner_index.Find(corner_coords[node] + kHalfOffsets[o]), k);
+      if (k > 0.0)
+        builder.AddSpring(node, corner_index.Find(corner_coords[node] + kHalfOffsets[o]), k);
     }
   }
   return builder.Build(static_cast<double>(elements.size()) * a * a * a, a);

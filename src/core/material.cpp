@@ -6,8 +6,7 @@
 
 namespace msm_sim::core {
 
-Material Material::FromYoungsPoisson(double youngs_modulus, double poisson_ratio,
-                                     double density) {
+Material Material::FromYoungsPoisson(double youngs_modulus, double poisson_ratio, double density) {
   std::ostringstream error;
   if (!std::isfinite(youngs_modulus) || youngs_modulus <= 0.0) {
     error << "Young's modulus must be a finite value > 0 Pa, got " << youngs_modulus;

@@ -11,17 +11,17 @@ namespace msm_sim::lab {
 
 /// Which model the lab builds, as given on the command line (SI units).
 struct ModelArguments {
-  std::string model = "cubic";            ///< cubic | random
+  std::string model = "cubic";  ///< cubic | random
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
   double spacing = 0.0;
   double youngs = 0.0;
   double poisson = 0.25;
   double density = 1000.0;
-  std::string construction = "node";      ///< node | corner (cubic only)
-  std::optional<Eigen::Vector4d> rotate;  ///< axis x, y, z and angle in degrees (cubic only)
-  std::uint64_t seed = 1;                 ///< random only
-  double min_dist = 0.8;                  ///< random only, multiple of l
-  double max_dist = 1.9;                  ///< random only, multiple of l
+  std::string construction = "node";         ///< node | corner (cubic only)
+  std::optional<Eigen::Vector4d> rotate;     ///< axis x, y, z and angle in degrees (cubic only)
+  std::uint64_t seed = 1;                    ///< random only
+  double min_dist = 0.8;                     ///< random only, multiple of l
+  double max_dist = 1.9;                     ///< random only, multiple of l
   std::string stiffness = "inverse-square";  ///< random only: uniform | inverse-square
 };
 

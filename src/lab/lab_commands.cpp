@@ -92,11 +92,9 @@ int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostrea
   out << std::setprecision(5);
   out << "\n                  target        measured      stress-corrected\n"
       << "E [Pa]            " << std::setw(12) << youngs << "  " << std::setw(12)
-      << result.youngs_measured << "  " << std::setw(12) << result.youngs_stress_corrected
-      << "\n"
-      << "nu                " << std::setw(12) << arguments.model.poisson << "  "
-      << std::setw(12) << result.poisson_measured << "  " << std::setw(12)
-      << result.poisson_stress_corrected << "\n"
+      << result.youngs_measured << "  " << std::setw(12) << result.youngs_stress_corrected << "\n"
+      << "nu                " << std::setw(12) << arguments.model.poisson << "  " << std::setw(12)
+      << result.poisson_measured << "  " << std::setw(12) << result.poisson_stress_corrected << "\n"
       << "E error           " << std::setw(11) << 100.0 * youngs_error << " %\n"
       << "\nsolver: " << result.solver.message << "\n"
       << "time: " << seconds << " s\n";

@@ -71,7 +71,8 @@ TEST(Calibration, SurfaceCompensationIsWhatMakesCoarseNodeCentredBlocksAccurate)
 TEST(Calibration, NodeCentredCubicIsIsotropicUnderLatticeRotation) {
   std::vector<double> youngs;
   for (const double angle : {0.0, 15.0, 30.0, 45.0, 60.0, 90.0}) {
-    const CompressionTestResult r = CompressCubic(CubicConstruction::kNodeCentred, 1.0 / 16.0, angle);
+    const CompressionTestResult r =
+        CompressCubic(CubicConstruction::kNodeCentred, 1.0 / 16.0, angle);
     youngs.push_back(r.youngs_measured);
     EXPECT_NEAR(r.poisson_measured, 0.25, 0.01) << angle << " deg";
   }

@@ -46,7 +46,7 @@ TEST(ModelBuilder, RejectsInvalidNodesAndSprings) {
   builder.AddNode({0, 0, 0}, 1.0);
   EXPECT_THROW(builder.AddSpring(0, 0, 1.0), std::invalid_argument);
   EXPECT_THROW(builder.AddSpring(0, 5, 1.0), std::invalid_argument);
-  EXPECT_THROW(builder.AddSpring(0, 1, 1.0), std::invalid_argument);  // coincident
+  EXPECT_THROW(builder.AddSpring(0, 1, 1.0), std::invalid_argument);             // coincident
   EXPECT_THROW(ModelBuilder(kMaterial).Build(1.0, 1.0), std::invalid_argument);  // no nodes
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/SparseCore>
 
+#include "msm_sim/core/model_builder.h"
 #include "msm_sim/core/random_lattice_builder.h"
 #include "msm_sim/core/spring_forces.h"
 
@@ -84,9 +85,9 @@ TEST(SpringForces, TangentIsMinusForceJacobian) {
     Eigen::Matrix3Xd fm = fp;
     AccumulateSpringForces(model, xp, &fp);
     AccumulateSpringForces(model, xm, &fm);
-    const Eigen::VectorXd column =
-        -(Eigen::Map<Eigen::VectorXd>(fp.data(), dofs) - Eigen::Map<Eigen::VectorXd>(fm.data(), dofs)) /
-        (2 * h);
+    const Eigen::VectorXd column = -(Eigen::Map<Eigen::VectorXd>(fp.data(), dofs) -
+                                     Eigen::Map<Eigen::VectorXd>(fm.data(), dofs)) /
+                                   (2 * h);
     const Eigen::VectorXd analytic = Eigen::MatrixXd(k).col(dof);
     EXPECT_LT((column - analytic).norm(), 1e-5 * (1.0 + analytic.norm()));
   }

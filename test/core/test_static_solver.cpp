@@ -27,7 +27,8 @@ TEST(StaticSolver, ChainUnderEndLoadStretchesLikeSeriesSprings) {
   Eigen::Matrix3Xd x = model.rest_positions();
   StaticSolverOptions options;
   options.force_tolerance = 1e-10;
-  const StaticSolverReport report = SolveStaticEquilibrium(model, constraints, external, options, &x);
+  const StaticSolverReport report =
+      SolveStaticEquilibrium(model, constraints, external, options, &x);
   ASSERT_TRUE(report.converged) << report.message;
   EXPECT_LE(report.max_residual_force, 1e-10);
   for (int i = 1; i < 5; ++i) EXPECT_NEAR(x(0, i) - 0.1 * i, i * 2.0 / 100.0, 1e-10);
@@ -58,7 +59,9 @@ TEST(StaticSolver, PrescribedDisplacementReachesToleranceOnALattice) {
   AccumulateSpringForces(model, x, &f);
   for (int i = 0; i < model.num_nodes(); ++i) {
     for (int axis = 0; axis < 3; ++axis) {
-      if (!constraints.is_fixed(3 * i + axis)) EXPECT_LE(std::abs(f(axis, i)), 1e-8);
+      if (!constraints.is_fixed(3 * i + axis)) {
+        EXPECT_LE(std::abs(f(axis, i)), 1e-8);
+      }
     }
   }
 }

@@ -15,18 +15,17 @@
 
 namespace {
 
-struct Run {
+struct LabRun {
   int exit_code = -1;
   bool signalled = false;
   std::string out;
   std::string err;
 };
 
-Run RunLab(const std::string& arguments) {
+LabRun RunLab(const std::string& arguments) {
   const std::string err_file = ::testing::TempDir() + "msm_lab_stderr.txt";
-  const std::string command =
-      std::string(MSM_LAB_EXECUTABLE) + " " + arguments + " 2>" + err_file;
-  Run run;
+  const std::string command = std::string(MSM_LAB_EXECUTABLE) + " " + arguments + " 2>" + err_file;
+  LabRun run;
   FILE* pipe = popen(command.c_str(), "r");
   std::array<char, 4096> buffer{};
   std::size_t n = 0;
@@ -51,7 +50,7 @@ const char* kCubic =
     "compression --model cubic --size 1 0.5 0.5 --spacing 0.0625 --youngs 2e5 --poisson 0.25";
 
 TEST(LabCli, CompressionJsonHasTheContractKeys) {
-  const Run run = RunLab(std::string(kCubic) + " --json");
+  const LabRun run = RunLab(std::string(kCubic) + " --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto json = nlohmann::json::parse(run.out);
   for (const char* key : {"youngs_target", "poisson_target", "youngs_measured", "poisson_measured",
@@ -64,7 +63,7 @@ TEST(LabCli, CompressionJsonHasTheContractKeys) {
 }
 
 TEST(LabCli, CompressionTableIsReadable) {
-  const Run run = RunLab(std::string(kCubic) + " --construction corner --rotate 0 0 1 10");
+  const LabRun run = RunLab(std::string(kCubic) + " --construction corner --rotate 0 0 1 10");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   EXPECT_NE(run.out.find("E [Pa]"), std::string::npos);
   EXPECT_NE(run.out.find("nodes"), std::string::npos);
@@ -74,8 +73,8 @@ TEST(LabCli, RandomCompressionIsDeterministicPerSeed) {
   const std::string command =
       "compression --model random --size 1.2 0.6 0.6 --spacing 0.1 --youngs 1e4 --poisson 0.25 "
       "--seed 7 --min-dist 0.8 --max-dist 1.9 --json";
-  const Run first = RunLab(command);
-  const Run second = RunLab(command);
+  const LabRun first = RunLab(command);
+  const LabRun second = RunLab(command);
   ASSERT_EQ(first.exit_code, 0) << first.err;
   const auto a = nlohmann::json::parse(first.out);
   const auto b = nlohmann::json::parse(second.out);
@@ -84,7 +83,7 @@ TEST(LabCli, RandomCompressionIsDeterministicPerSeed) {
 }
 
 TEST(LabCli, DeflectionReportsProfileAndTheory) {
-  const Run run = RunLab(
+  const LabRun run = RunLab(
       "deflection --model cubic --size 4 1 1 --spacing 0.25 --youngs 1e5 --poisson 0.25 "
       "--force 0.1 --json");
   ASSERT_EQ(run.exit_code, 0) << run.err;
@@ -105,14 +104,13 @@ class LabCliBadInput : public ::testing::TestWithParam<BadInput> {};
 
 TEST_P(LabCliBadInput, PrintsOneClearErrorLineAndExitCode) {
   const BadInput& bad = GetParam();
-  const Run run = RunLab(bad.arguments);
+  const LabRun run = RunLab(bad.arguments);
   EXPECT_FALSE(run.signalled);
   EXPECT_EQ(run.exit_code, bad.exit_code) << run.err;
   EXPECT_EQ(CountLines(run.err), 1) << run.err;
   EXPECT_EQ(run.err.rfind("msm_lab: error: ", 0), 0u) << run.err;
   EXPECT_NE(run.err.find(bad.mentions), std::string::npos) << run.err;
 }
-
 
 INSTANTIATE_TEST_SUITE_P(
     Contract, LabCliBadInput,
@@ -157,17 +155,20 @@ INSTANTIATE_TEST_SUITE_P(
                  1, "random sequential addition"}));
 
 TEST(LabCli, HelpExitsZero) {
-  const Run run = RunLab("--help");
+  const LabRun run = RunLab("--help");
   EXPECT_EQ(run.exit_code, 0);
   EXPECT_NE(run.out.find("compression"), std::string::npos);
 }
 
 TEST(LabArguments, ParsesTheFullCompressionContract) {
   const auto outcome = msm_sim::lab::ParseLabArguments(
-      {"msm_lab", "compression", "--model", "random", "--size", "3", "2", "1", "--spacing",
-       "0.1", "--youngs", "5e4", "--poisson", "0.25", "--construction", "corner", "--density",
-       "900", "--strain", "0.02", "--rotate", "0", "0", "1", "30", "--seed", "9", "--min-dist",
-       "0.85", "--max-dist", "1.6", "--json"});
+      {"msm_lab",  "compression", "--model",    "random",    "--size",
+       "3",        "2",           "1",          "--spacing", "0.1",
+       "--youngs", "5e4",         "--poisson",  "0.25",      "--construction",
+       "corner",   "--density",   "900",        "--strain",  "0.02",
+       "--rotate", "0",           "0",          "1",         "30",
+       "--seed",   "9",           "--min-dist", "0.85",      "--max-dist",
+       "1.6",      "--json"});
   ASSERT_TRUE(outcome.arguments.has_value()) << outcome.message;
   const auto& a = *outcome.arguments;
   EXPECT_EQ(a.model.model, "random");

@@ -23,15 +23,15 @@ struct CompressionTestOptions {
 };
 
 struct CompressionTestResult {
-  double youngs_measured = 0.0;   ///< Pa: (F / A) / imposed strain
-  double poisson_measured = 0.0;  ///< -eps_lateral / eps_xx from the central region
+  double youngs_measured = 0.0;           ///< Pa: (F / A) / imposed strain
+  double poisson_measured = 0.0;          ///< -eps_lateral / eps_xx from the central region
   double youngs_stress_corrected = 0.0;   ///< Pa, from Hardy stress and probe strain at centre
   double poisson_stress_corrected = 0.0;  ///< from Hardy stress and probe strain at centre
-  double axial_force = 0.0;        ///< N, compressive > 0, momentum flow through x = Lx / 2
+  double axial_force = 0.0;               ///< N, compressive > 0, momentum flow through x = Lx / 2
   Eigen::Matrix3d centre_strain = Eigen::Matrix3d::Zero();  ///< Delaunay probe at the centre
   Eigen::Matrix3d centre_stress = Eigen::Matrix3d::Zero();  ///< Pa, Hardy probe R = 1.3 ã
-  int end_nodes = 0;               ///< nodes with prescribed x
-  int central_nodes = 0;           ///< nodes in the regression region
+  int end_nodes = 0;                                        ///< nodes with prescribed x
+  int central_nodes = 0;                                    ///< nodes in the regression region
   StaticSolverReport solver;
 };
 

@@ -38,9 +38,9 @@ struct CubicLatticeOptions {
 /// outside the body. Each such spring would have half its length inside the body (the node sits
 /// half a cell inside the surface), so the body loses half a spring per missing neighbour; for a
 /// block n cells across that is about 2/(3n) of E. For every node i whose neighbour i + d is
-/// missing, we add kappa/2 to the collinear spring (i, i - d) on the opposite side of the same node.
-/// Under any uniform strain a spring's energy only depends on its direction and k L^2, so this
-/// restores exactly the bulk stiffness tensor per node (and thus E and nu of a homogeneously
+/// missing, we add kappa/2 to the collinear spring (i, i - d) on the opposite side of the same
+/// node. Under any uniform strain a spring's energy only depends on its direction and k L^2, so
+/// this restores exactly the bulk stiffness tensor per node (and thus E and nu of a homogeneously
 /// strained block), without adding nodes or springs. A node missing both i + d and i - d (a layer
 /// one cell thick) cannot be compensated along d.
 ///

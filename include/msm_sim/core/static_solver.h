@@ -21,9 +21,9 @@ struct StaticSolverOptions {
 struct StaticSolverReport {
   bool converged = false;
   int newton_iterations = 0;
-  int linear_iterations = 0;          ///< summed over Newton iterations
-  double max_residual_force = 0.0;    ///< N, largest |net force| over free DOFs at the end
-  std::string message;                ///< why it stopped, in words
+  int linear_iterations = 0;        ///< summed over Newton iterations
+  double max_residual_force = 0.0;  ///< N, largest |net force| over free DOFs at the end
+  std::string message;              ///< why it stopped, in words
 };
 
 /// Finds positions where the spring forces plus `external_forces` vanish on every free DOF.

@@ -30,8 +30,7 @@ class StrainProbe {
   /// Small-strain tensor at p with central-difference step `step` (the thesis uses 0.5 ã), or
   /// nothing if a sample point falls outside the convex hull.
   std::optional<Eigen::Matrix3d> StrainAt(const Eigen::Vector3d& p,
-                                          const Eigen::Matrix3Xd& displacements,
-                                          double step) const;
+                                          const Eigen::Matrix3Xd& displacements, double step) const;
 
  private:
   struct Triangulation;
