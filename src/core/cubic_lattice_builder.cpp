@@ -49,11 +49,20 @@ void Validate(const CubicLatticeOptions& options) {
                                 " m is larger than the smallest box edge " +
                                 std::to_string(options.size.minCoeff()) + " m");
   }
+  const double expected_nodes = options.size.prod() / std::pow(options.spacing, 3);
+  if (expected_nodes > options.max_nodes) {
+    throw std::invalid_argument(
+        "the lattice would have about " + std::to_string(static_cast<long long>(expected_nodes)) +
+        " nodes, more than " + std::to_string(options.max_nodes) + "; use a larger spacing");
+  }
   if (!std::isfinite(options.rotation_angle) || !options.rotation_axis.allFinite() ||
       (options.rotation_angle != 0.0 && options.rotation_axis.norm() == 0.0)) {
     throw std::invalid_argument("lattice rotation needs a finite angle and a non-zero axis");
   }
 }
+
+// 4 bytes per cell: at most 1.6 GB for the index of a lattice of about max_nodes nodes.
+constexpr double kMaxIndexCells = 4e8;
 
 // A dense grid of integer lattice coordinates inside [lo, hi] mapping to node indices (-1: none).
 class LatticeIndex {
@@ -61,7 +70,11 @@ class LatticeIndex {
   LatticeIndex(const Eigen::Vector3i& lo, const Eigen::Vector3i& hi)
       : lo_(lo), extent_(hi - lo + Eigen::Vector3i::Ones()) {
     const double cells = static_cast<double>(extent_.x()) * extent_.y() * extent_.z();
-    if (cells > 2e9) throw std::invalid_argument("lattice is too large for the box and spacing");
+    // The index is dense over the lattice range covering the (possibly rotated) box.
+    if (cells > kMaxIndexCells) {
+      throw std::invalid_argument("the lattice index would need " + std::to_string(cells) +
+                                  " cells; use a larger spacing");
+    }
     nodes_.assign(static_cast<std::size_t>(cells), -1);
   }
   bool Contains(const Eigen::Vector3i& c) const {

@@ -149,6 +149,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs abc "
                  "--poisson 0.25",
                  2, "youngs"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 1e-5 --youngs 1e5 "
+                 "--poisson 0.25",
+                 2, "use a larger spacing"},
         BadInput{"stretch", 2, "stretch"}, BadInput{"", 2, "subcommand"},
         BadInput{"compression --model random --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
                  "--poisson 0.25 --min-dist 1.4 --max-dist 2",

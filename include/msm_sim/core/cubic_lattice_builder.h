@@ -27,8 +27,9 @@ struct CubicLatticeOptions {
   double rotation_angle = 0.0;                               ///< rad
   /// Node-centred only: restore the springs the surface layer misses (see BuildCubicLattice).
   bool compensate_surface = true;
-  /// Refuse to build more nodes than this (protects against absurd spacings).
-  int max_nodes = 20'000'000;
+  /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs
+  /// several kB per node).
+  int max_nodes = 2'000'000;
 };
 
 /// Builds a calibrated A+B cubic lattice MSM of the box for `material` (plain springs: the model

@@ -26,7 +26,7 @@ struct RandomLatticeOptions {
   RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
   /// Random sequential addition gives up after this many draws per requested node.
   int max_draws_per_node = 1000;
-  int max_nodes = 5'000'000;
+  int max_nodes = 2'000'000;
 };
 
 /// Builds a calibrated random MSM of the box: N = round(V / l^3) points at least minL apart
