@@ -4,8 +4,8 @@
 
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
+#include "msm_sim/core/force_evaluator.h"
 #include "msm_sim/core/random_lattice_builder.h"
-#include "msm_sim/core/spring_forces.h"
 
 namespace msm_sim::core {
 namespace {
@@ -53,10 +53,11 @@ void BM_SpringForces16k(benchmark::State& state) {
   lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
   lattice.spacing = 0.05;
   const Model model = BuildCubicLattice(kMaterial, lattice);
+  ForceEvaluator evaluator(model);
   Eigen::Matrix3Xd forces(3, model.num_nodes());
   for (auto _ : state) {
     forces.setZero();
-    benchmark::DoNotOptimize(AccumulateSpringForces(model, model.rest_positions(), &forces));
+    benchmark::DoNotOptimize(evaluator.AccumulateForces(model.rest_positions(), &forces));
   }
   state.counters["springs"] = model.num_springs();
 }

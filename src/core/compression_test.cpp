@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "msm_sim/core/dof_constraints.h"
+#include "msm_sim/core/force_evaluator.h"
 #include "msm_sim/core/hardy_stress.h"
 #include "msm_sim/core/linear_fit.h"
 #include "msm_sim/core/momentum_flow.h"
@@ -67,8 +68,12 @@ CompressionTestResult RunCompressionTest(const Model& model,
       SolveStaticEquilibrium(model, constraints, Eigen::Matrix3Xd::Zero(3, n), solver, &positions);
 
   // E from the momentum flow through the middle yz plane.
-  const Eigen::Vector3d flow =
-      MomentumFlowThroughPlane(model, positions, MaterialPlane{centre, Eigen::Vector3d::UnitX()});
+  ForceEvaluator evaluator(model);
+  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, n);
+  evaluator.AccumulateForces(positions, &forces);
+  const Eigen::VectorXd& tensions = evaluator.total_tensions();
+  const Eigen::Vector3d flow = MomentumFlowThroughPlane(
+      model, positions, tensions, MaterialPlane{centre, Eigen::Vector3d::UnitX()});
   result.axial_force = -flow.x();
   const double area = size.y() * size.z();
   result.youngs_measured = (result.axial_force / area) / options.strain;
@@ -100,7 +105,7 @@ CompressionTestResult RunCompressionTest(const Model& model,
   // Stress-corrected values from point probes at the centre (thesis 3.1).
   const StrainProbe probe(rest);
   const auto centre_strain = probe.StrainAt(centre, displacement, 0.5 * a);
-  result.centre_stress = HardyStress(model, positions, centre, 1.3 * a);
+  result.centre_stress = HardyStress(model, positions, tensions, centre, 1.3 * a);
   if (centre_strain) {
     result.centre_strain = *centre_strain;
     const Eigen::Matrix3d& e = result.centre_strain;

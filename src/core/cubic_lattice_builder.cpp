@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 
+#include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/model_builder.h"
 
 namespace msm_sim::core {
@@ -149,16 +150,23 @@ void CheckNodeBudget(long long count, int max_nodes) {
   }
 }
 
+ModelBuilder MakeBuilder(const Material& material, const CubicLatticeOptions& options) {
+  ModelBuilder builder(material);
+  builder.SetSpringLaw(options.spring_law);
+  builder.SetDispersionFraction(DispersionFraction(material.poisson_ratio()));
+  return builder;
+}
+
 Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& options) {
   const double a = options.spacing;
-  const double kappa = 0.4 * material.youngs_modulus() * a;
+  const double kappa = material.shear_modulus() * a;
   const double node_mass = material.density() * a * a * a;
   const LatticeFrame frame = MakeFrame(options, a, 0.5);
   Eigen::Vector3i lo, hi;
   frame.CoveringRange(options.size, &lo, &hi);
   LatticeIndex index(lo, hi);
 
-  ModelBuilder builder(material);
+  ModelBuilder builder = MakeBuilder(material, options);
   std::vector<Eigen::Vector3i> coords;
   const double tolerance = 1e-9 * a;
   for (int k = lo.z(); k <= hi.z(); ++k) {
@@ -205,7 +213,7 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {
   const double a = options.spacing;
-  const double kappa = 0.4 * material.youngs_modulus() * a;
+  const double kappa = material.shear_modulus() * a;
   // Element centres sit on the cell lattice; their corners sit on the same lattice shifted by
   // (1/2, 1/2, 1/2) cells.
   const LatticeFrame cells = MakeFrame(options, a, 0.5);
@@ -265,7 +273,7 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
     }
   }
 
-  ModelBuilder builder(material);
+  ModelBuilder builder = MakeBuilder(material, options);
   for (int node = 0; node < n; ++node) {
     builder.AddNode(corners.Position(corner_coords[node]), corner_mass[node]);
   }

@@ -2,14 +2,12 @@
 
 namespace msm_sim::core {
 
-std::vector<int> DofConstraints::FreeDofNumbering(int* num_free) const {
-  std::vector<int> numbering(fixed_.size(), -1);
-  int next = 0;
+std::vector<int> DofConstraints::FreeDofs() const {
+  std::vector<int> free_dofs;
   for (std::size_t dof = 0; dof < fixed_.size(); ++dof) {
-    if (!fixed_[dof]) numbering[dof] = next++;
+    if (!fixed_[dof]) free_dofs.push_back(static_cast<int>(dof));
   }
-  *num_free = next;
-  return numbering;
+  return free_dofs;
 }
 
 }  // namespace msm_sim::core

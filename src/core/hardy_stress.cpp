@@ -23,11 +23,10 @@ double SegmentFractionInsideBall(const Eigen::Vector3d& p0, const Eigen::Vector3
 }
 
 Eigen::Matrix3d HardyStress(const Model& model, const Eigen::Matrix3Xd& positions,
-                            const Eigen::Vector3d& point, double radius) {
+                            const Eigen::VectorXd& tensions, const Eigen::Vector3d& point,
+                            double radius) {
   const auto& a = model.spring_node_a();
   const auto& b = model.spring_node_b();
-  const auto& rest_length = model.spring_rest_length();
-  const auto& k = model.spring_stiffness();
   Eigen::Matrix3d stress = Eigen::Matrix3d::Zero();
   for (int s = 0; s < model.num_springs(); ++s) {
     const Eigen::Vector3d pa = positions.col(a[s]);
@@ -35,9 +34,7 @@ Eigen::Matrix3d HardyStress(const Model& model, const Eigen::Matrix3Xd& position
     const double bond = SegmentFractionInsideBall(pa, pb, point, radius);
     if (bond == 0.0) continue;
     const Eigen::Vector3d r = pb - pa;
-    const double length = r.norm();
-    const double tension = k[s] * (length - rest_length[s]);
-    stress += (tension * bond / length) * r * r.transpose();
+    stress += (tensions[s] * bond / r.norm()) * r * r.transpose();
   }
   const double probe_volume = 4.0 / 3.0 * M_PI * radius * radius * radius;
   return stress / probe_volume;

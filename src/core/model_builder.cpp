@@ -66,6 +66,8 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
     model.incident_springs_[cursor[node_a_[s]]++] = static_cast<SpringIndex>(s);
     model.incident_springs_[cursor[node_b_[s]]++] = static_cast<SpringIndex>(s);
   }
+  model.spring_law_ = spring_law_;
+  model.dispersion_fraction_ = dispersion_fraction_;
   model.volume_ = volume;
   model.characteristic_length_ = characteristic_length;
   return model;

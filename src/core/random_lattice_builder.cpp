@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/model_builder.h"
 #include "msm_sim/core/spatial_hash_grid.h"
 
@@ -71,6 +72,8 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
 
   const double node_mass = material.density() * volume / target;
   ModelBuilder builder(material);
+  builder.SetSpringLaw(options.spring_law);
+  builder.SetDispersionFraction(DispersionFraction(material.poisson_ratio()));
   for (const Eigen::Vector3d& p : points) builder.AddNode(p, node_mass);
 
   struct Pair {
@@ -89,12 +92,12 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
     throw std::invalid_argument("no two nodes are closer than max distance; raise --max-dist");
   }
 
-  // Calibration (SPEC.md §2): E = (1 / (6V)) sum k_i L_i^2. With k_i = c / L_i^2 every spring
+  // Calibration (SPEC.md §2-3): sum k_i L_i^2 = 15 V mu. With k_i = c / L_i^2 every spring
   // contributes c, with uniform k_i = c every spring contributes c L_i^2.
   const bool inverse_square = options.stiffness_law == RandomStiffnessLaw::kInverseSquare;
   double sum_shape = 0.0;
   for (const Pair& pair : pairs) sum_shape += inverse_square ? 1.0 : pair.length * pair.length;
-  const double c = 6.0 * volume * material.youngs_modulus() / sum_shape;
+  const double c = DirectSpringSumKL2(material, volume) / sum_shape;
   for (const Pair& pair : pairs) {
     builder.AddSpring(pair.i, pair.j, inverse_square ? c / (pair.length * pair.length) : c);
   }

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
 #include "msm_sim/core/cubic_lattice_builder.h"
+#include "msm_sim/core/force_evaluator.h"
 #include "msm_sim/core/model_builder.h"
-#include "msm_sim/core/spring_forces.h"
 #include "msm_sim/core/static_solver.h"
 
 namespace msm_sim::core {
@@ -56,7 +56,7 @@ TEST(StaticSolver, PrescribedDisplacementReachesToleranceOnALattice) {
       model, constraints, Eigen::Matrix3Xd::Zero(3, model.num_nodes()), options, &x);
   ASSERT_TRUE(report.converged) << report.message;
   Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-  AccumulateSpringForces(model, x, &f);
+  ForceEvaluator(model).AccumulateForces(x, &f);
   for (int i = 0; i < model.num_nodes(); ++i) {
     for (int axis = 0; axis < 3; ++axis) {
       if (!constraints.is_fixed(3 * i + axis)) {

@@ -4,6 +4,7 @@
 
 #include "msm_sim/core/material.h"
 #include "msm_sim/core/model.h"
+#include "msm_sim/core/spring_law.h"
 
 namespace msm_sim::core {
 
@@ -27,13 +28,16 @@ struct CubicLatticeOptions {
   double rotation_angle = 0.0;                               ///< rad
   /// Node-centred only: restore the springs the surface layer misses (see BuildCubicLattice).
   bool compensate_surface = true;
+  SpringLaw spring_law = SpringLaw::kLinear;
   /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs
   /// several kB per node).
   int max_nodes = 2'000'000;
 };
 
-/// Builds a calibrated A+B cubic lattice MSM of the box for `material` (plain springs: the model
-/// has E = material E and nu = 1/4 whatever material nu is).
+/// Builds a calibrated A+B cubic lattice MSM of the box for `material`, as an extended MSM
+/// (SPEC.md §3): springs kappa = mu a, which alone make a Cauchy solid with the target shear
+/// modulus, and dispersion fraction q = Q(nu) / 2 for the rest of the bulk modulus. At nu = 1/4,
+/// q = 0 and kappa = 0.4 E a: the plain MSM of SPEC.md §2.1.
 ///
 /// Node-centred surface compensation: a node on the surface misses the springs to the cells
 /// outside the body. Each such spring would have half its length inside the body (the node sits

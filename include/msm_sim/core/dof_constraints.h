@@ -24,8 +24,8 @@ class DofConstraints {
   bool is_fixed(int dof) const { return fixed_[dof] != 0; }
   int num_dofs() const { return static_cast<int>(fixed_.size()); }
 
-  /// Map from DOF to the index among free DOFs (-1 for fixed ones); sets *num_free.
-  std::vector<int> FreeDofNumbering(int* num_free) const;
+  /// The free DOFs in increasing order.
+  std::vector<int> FreeDofs() const;
 
  private:
   std::vector<std::uint8_t> fixed_;

@@ -11,9 +11,12 @@ namespace msm_sim::core {
 ///   sigma = (1 / V_p) sum_s t_s (r_s ⊗ r̂_s) B_s,
 /// r_s the current spring vector, t_s its tension (> 0 stretched) and B_s the fraction of the
 /// current spring segment inside the probe (linear bond). Tension is positive (Pa).
-/// The thesis uses R = 1.3 ã. Preconditions: radius > 0; positions has N columns.
+/// The thesis uses R = 1.3 ã. `tensions` are the springs' total tensions
+/// (ForceEvaluator::total_tensions()). Preconditions: radius > 0; positions has N columns,
+/// tensions one entry per spring.
 Eigen::Matrix3d HardyStress(const Model& model, const Eigen::Matrix3Xd& positions,
-                            const Eigen::Vector3d& point, double radius);
+                            const Eigen::VectorXd& tensions, const Eigen::Vector3d& point,
+                            double radius);
 
 /// Fraction of the segment [p0, p1] that lies inside the ball (centre, radius); 0 for a
 /// degenerate segment.

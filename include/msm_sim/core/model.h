@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "msm_sim/core/material.h"
+#include "msm_sim/core/spring_law.h"
 
 namespace msm_sim::core {
 
@@ -48,6 +49,11 @@ class Model {
     return incidence_offsets_[node + 1] - incidence_offsets_[node];
   }
 
+  /// Tension law shared by every spring.
+  SpringLaw spring_law() const { return spring_law_; }
+  /// eMSM dispersion fraction q (SPEC.md §3); 0 for a plain MSM (nu = 1/4).
+  double dispersion_fraction() const { return dispersion_fraction_; }
+
   /// The material the springs were calibrated for.
   const Material& material() const { return material_; }
   /// Volume of the body the model represents (m^3); used by calibration and measurements.
@@ -69,6 +75,8 @@ class Model {
   std::vector<std::int32_t> incidence_offsets_;
   std::vector<SpringIndex> incident_springs_;
   Material material_;
+  SpringLaw spring_law_ = SpringLaw::kLinear;
+  double dispersion_fraction_ = 0.0;
   double volume_ = 0.0;
   double characteristic_length_ = 0.0;
 };

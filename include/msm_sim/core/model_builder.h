@@ -23,6 +23,9 @@ class ModelBuilder {
   SpringIndex AddSpring(NodeIndex a, NodeIndex b, double stiffness);
   /// Adds `extra` (N/m) to an existing spring's stiffness.
   void AddStiffness(SpringIndex spring, double extra);
+  void SetSpringLaw(SpringLaw law) { spring_law_ = law; }
+  /// eMSM dispersion fraction q; precondition: q > -1/2 (Q > -1).
+  void SetDispersionFraction(double q) { dispersion_fraction_ = q; }
 
   int num_nodes() const { return static_cast<int>(masses_.size()); }
   int num_springs() const { return static_cast<int>(stiffness_.size()); }
@@ -35,6 +38,8 @@ class ModelBuilder {
 
  private:
   Material material_;
+  SpringLaw spring_law_ = SpringLaw::kLinear;
+  double dispersion_fraction_ = 0.0;
   std::vector<Eigen::Vector3d> positions_;
   std::vector<double> masses_;
   std::vector<NodeIndex> node_a_;

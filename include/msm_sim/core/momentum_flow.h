@@ -18,8 +18,11 @@ struct MaterialPlane {
 ///
 /// The plane cuts the node set by rest position (n·(x0 - p) >= 0 is the + side), so the result is
 /// exactly the force one part of the body exerts on the other, even when nodes lie on the plane.
-/// Precondition: positions has model.num_nodes() columns.
+/// `tensions` are the springs' total tensions (ForceEvaluator::total_tensions(), which include
+/// the eMSM dispersion). Preconditions: positions has model.num_nodes() columns, tensions has
+/// model.num_springs() entries.
 Eigen::Vector3d MomentumFlowThroughPlane(const Model& model, const Eigen::Matrix3Xd& positions,
+                                         const Eigen::VectorXd& tensions,
                                          const MaterialPlane& plane);
 
 }  // namespace msm_sim::core

@@ -6,6 +6,7 @@
 
 #include "msm_sim/core/material.h"
 #include "msm_sim/core/model.h"
+#include "msm_sim/core/spring_law.h"
 
 namespace msm_sim::core {
 
@@ -24,6 +25,7 @@ struct RandomLatticeOptions {
   double max_distance = 1.7;  ///< maxL as a multiple of l: pairs closer than this get a spring
   std::uint64_t seed = 1;     ///< same seed, same model
   RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
+  SpringLaw spring_law = SpringLaw::kLinear;
   /// Random sequential addition gives up after this many draws per requested node.
   int max_draws_per_node = 1000;
   int max_nodes = 2'000'000;
@@ -31,8 +33,9 @@ struct RandomLatticeOptions {
 
 /// Builds a calibrated random MSM of the box: N = round(V / l^3) points at least minL apart
 /// (spatial-hash rejection), a spring between every pair closer than maxL, node mass rho V / N,
-/// and stiffnesses scaled so that (1 / (6V)) sum k_i L_i^2 = E (SPEC.md §2; plain springs, so
-/// nu = 1/4 whatever material nu is).
+/// and stiffnesses scaled so that sum k_i L_i^2 = 15 V mu, a Cauchy solid with the target shear
+/// modulus, plus the eMSM dispersion q = Q(nu) / 2 (SPEC.md §2-3; at nu = 1/4 this is the plain
+/// calibration (1 / (6V)) sum k_i L_i^2 = E).
 ///
 /// Throws std::invalid_argument for bad options (non-positive sizes, spacing larger than the box,
 /// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place

@@ -1,0 +1,71 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "msm_sim/core/model.h"
+
+namespace msm_sim::core {
+
+/// How a force evaluation computes the eMSM momentum dispersion (SPEC.md §3).
+enum class DispersionPasses {
+  /// Exact: a second loop over the springs redistributes this evaluation's accumulators.
+  kTwoPass,
+  /// One loop: redistributes the accumulators of the previous evaluation (the first evaluation
+  /// is two-pass). About half the cost of the second pass, one evaluation of lag.
+  kOnePass,
+};
+
+/// Internal forces of a Model: spring tensions under the model's spring law plus, for an eMSM,
+/// the dispersed tensions t*_n = (J_a / b_a + J_b / b_b) / L0_n with J_x = q sum L0_i t_i over the
+/// springs at node x (SPEC.md §3). Loops stream over the model's spring arrays; the spring law is
+/// a template parameter, so there is no per-spring dispatch.
+///
+/// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
+/// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
+/// model.num_nodes() columns and no spring has zero length.
+class ForceEvaluator {
+ public:
+  explicit ForceEvaluator(const Model& model,
+                          DispersionPasses passes = DispersionPasses::kTwoPass);
+
+  /// Adds the internal forces at `positions` to *forces (3 x N, N) and returns the elastic energy
+  /// of the direct springs (J). The dispersion has no potential in general (it has one when all
+  /// k L0^2 are equal), so its work is not included.
+  double AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+
+  /// Direct plus dispersed tension of every spring at the last AccumulateForces (N, > 0
+  /// stretched): what measurements such as momentum flow and Hardy stress must sum.
+  const Eigen::VectorXd& total_tensions() const { return total_tensions_; }
+
+  /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness.
+  void Linearize(const Eigen::Matrix3Xd& positions);
+  /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric only
+  /// without dispersion. Precondition: Linearize was called; v and out are 3 x N.
+  void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// The diagonal of K (3 x N) at the last Linearize, exact.
+  Eigen::Matrix3Xd StiffnessDiagonal() const;
+  bool stiffness_is_symmetric() const { return model_.dispersion_fraction() == 0.0; }
+
+  const Model& model() const { return model_; }
+
+ private:
+  template <SpringLaw Law>
+  double DirectPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces,
+                    bool one_pass_dispersion);
+  template <SpringLaw Law>
+  void LinearizeImpl(const Eigen::Matrix3Xd& positions);
+  void DispersionPass(Eigen::Matrix3Xd* forces);
+
+  const Model& model_;
+  DispersionPasses passes_;
+  Eigen::VectorXd inverse_spring_count_;   // 1 / b per node
+  Eigen::VectorXd total_tensions_;         // direct + dispersed
+  Eigen::VectorXd accumulator_;            // J per node
+  Eigen::VectorXd previous_accumulator_;   // J of the previous evaluation (one-pass)
+  bool has_previous_accumulator_ = false;
+  Eigen::Matrix3Xd directions_;            // unit vectors a -> b (dispersion, linearisation)
+  Eigen::VectorXd lengths_;
+  Eigen::VectorXd tangent_stiffness_;      // dt / dL per spring (linearisation)
+};
+
+}  // namespace msm_sim::core

@@ -1,0 +1,175 @@
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "msm_sim/core/cubic_lattice_builder.h"
+#include "msm_sim/core/extended_msm.h"
+#include "msm_sim/core/force_evaluator.h"
+#include "msm_sim/core/model_builder.h"
+#include "msm_sim/core/random_lattice_builder.h"
+
+namespace msm_sim::core {
+namespace {
+
+Model RandomModel(double poisson, SpringLaw law) {
+  RandomLatticeOptions options;
+  options.size = Eigen::Vector3d(0.5, 0.4, 0.3);
+  options.spacing = 0.1;
+  options.spring_law = law;
+  return BuildRandomLattice(Material::FromYoungsPoisson(1e4, poisson, 1000.0), options);
+}
+
+Eigen::Matrix3Xd Perturbed(const Model& model, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, amplitude);
+  Eigen::Matrix3Xd x = model.rest_positions();
+  for (int i = 0; i < x.size(); ++i) x.data()[i] += noise(rng);
+  return x;
+}
+
+Eigen::Matrix3Xd Forces(const Model& model, const Eigen::Matrix3Xd& x, double* energy = nullptr) {
+  ForceEvaluator evaluator(model);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+  const double e = evaluator.AccumulateForces(x, &f);
+  if (energy) *energy = e;
+  return f;
+}
+
+TEST(ForceEvaluator, LinearSpringObeysHookesLaw) {
+  ModelBuilder builder(Material::FromYoungsPoisson(1e4, 0.25, 1000.0));
+  builder.AddNode({0, 0, 0}, 1.0);
+  builder.AddNode({2, 0, 0}, 1.0);
+  builder.AddSpring(0, 1, 50.0);
+  const Model model = builder.Build(1.0, 1.0);
+  Eigen::Matrix3Xd x = model.rest_positions();
+  x(0, 1) = 2.1;  // stretched by 0.1
+  ForceEvaluator evaluator(model);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 2);
+  EXPECT_NEAR(evaluator.AccumulateForces(x, &f), 0.5 * 50.0 * 0.01, 1e-12);
+  EXPECT_NEAR(f(0, 0), 5.0, 1e-12);  // node 0 pulled towards node 1
+  EXPECT_NEAR(f(0, 1), -5.0, 1e-12);
+  EXPECT_NEAR(evaluator.total_tensions()[0], 5.0, 1e-12);
+}
+
+TEST(ForceEvaluator, NonlinearSpringMatchesTheCarrierLaw) {
+  const double k = 50.0, l0 = 2.0;
+  for (const double l : {0.1, 1.0, 1.9, 2.0, 2.5, 6.0}) {
+    EXPECT_NEAR(SpringTension<SpringLaw::kNonlinear>(k, l0, l), k * l0 * (l - l0) / l, 1e-12);
+    const double h = 1e-6;
+    EXPECT_NEAR((SpringEnergy<SpringLaw::kNonlinear>(k, l0, l + h) -
+                 SpringEnergy<SpringLaw::kNonlinear>(k, l0, l - h)) /
+                    (2 * h),
+                SpringTension<SpringLaw::kNonlinear>(k, l0, l), 1e-5);
+  }
+  // Same small-strain stiffness as the linear law; unbounded compressive force as L -> 0.
+  EXPECT_DOUBLE_EQ(SpringTangentStiffness<SpringLaw::kNonlinear>(k, l0, l0), k);
+  EXPECT_LT(SpringTension<SpringLaw::kNonlinear>(k, l0, 1e-6), -1e6);
+  EXPECT_GT(SpringTension<SpringLaw::kLinear>(k, l0, 1e-6), -k * l0 - 1e-9);
+}
+
+class ForceEvaluatorLaws : public ::testing::TestWithParam<SpringLaw> {};
+
+TEST_P(ForceEvaluatorLaws, ForcesAreMinusEnergyGradientWithoutDispersion) {
+  const Model model = RandomModel(0.25, GetParam());
+  const Eigen::Matrix3Xd x = Perturbed(model, 0.01, 3);
+  const Eigen::Matrix3Xd f = Forces(model, x);
+  const double h = 1e-7;
+  for (int dof : {0, 7, 31, 3 * model.num_nodes() - 1}) {
+    Eigen::Matrix3Xd xp = x, xm = x;
+    xp.data()[dof] += h;
+    xm.data()[dof] -= h;
+    double ep = 0.0, em = 0.0;
+    Forces(model, xp, &ep);
+    Forces(model, xm, &em);
+    EXPECT_NEAR(-(ep - em) / (2 * h), f.data()[dof], 1e-5 * (1.0 + std::abs(f.data()[dof])));
+  }
+  EXPECT_LT(f.rowwise().sum().norm(), 1e-9);  // Newton's third law
+}
+
+TEST_P(ForceEvaluatorLaws, StiffnessIsMinusForceJacobianWithDispersion) {
+  for (const double poisson : {-0.5, 0.25, 0.45}) {
+    const Model model = RandomModel(poisson, GetParam());
+    const Eigen::Matrix3Xd x = Perturbed(model, 0.01, 5);
+    ForceEvaluator evaluator(model);
+    evaluator.Linearize(x);
+    const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
+    const double h = 1e-7;
+    for (int dof : {2, 40, 3 * model.num_nodes() - 2}) {
+      Eigen::Matrix3Xd xp = x, xm = x;
+      xp.data()[dof] += h;
+      xm.data()[dof] -= h;
+      const Eigen::Matrix3Xd column = -(Forces(model, xp) - Forces(model, xm)) / (2 * h);
+      Eigen::Matrix3Xd unit = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+      unit.data()[dof] = 1.0;
+      Eigen::Matrix3Xd analytic;
+      evaluator.ApplyStiffness(unit, &analytic);
+      EXPECT_LT((column - analytic).norm(), 1e-5 * (1.0 + analytic.norm())) << poisson;
+      EXPECT_NEAR(diagonal.data()[dof], analytic.data()[dof], 1e-6 * (1.0 + analytic.norm()));
+    }
+    EXPECT_EQ(evaluator.stiffness_is_symmetric(), poisson == 0.25);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Laws, ForceEvaluatorLaws,
+                         ::testing::Values(SpringLaw::kLinear, SpringLaw::kNonlinear));
+
+TEST(ForceEvaluator, DispersionAddsQTimesTheDirectBulkResponse) {
+  // SPEC.md §3: under uniform dilatation eps, sum over springs of t*_n L0_n = 2 q sum k L0^2 eps.
+  const Model model = RandomModel(0.4, SpringLaw::kLinear);
+  const double q = model.dispersion_fraction();
+  EXPECT_NEAR(q, 0.5 * DispersionRatio(0.4), 1e-15);
+  const double eps = 1e-6;
+  const Eigen::Matrix3Xd x = model.rest_positions() * (1.0 + eps);
+  ForceEvaluator evaluator(model);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+  evaluator.AccumulateForces(x, &f);
+  double dispersed = 0.0, direct = 0.0;
+  for (int s = 0; s < model.num_springs(); ++s) {
+    const double l0 = model.spring_rest_length()[s];
+    const double t = model.spring_stiffness()[s] * l0 * eps;
+    dispersed += (evaluator.total_tensions()[s] - t) * l0;
+    direct += model.spring_stiffness()[s] * l0 * l0 * eps;
+  }
+  EXPECT_NEAR(dispersed / (2.0 * q * direct), 1.0, 1e-6);
+}
+
+TEST(ForceEvaluator, OnePassLagsTwoPassByOneEvaluation) {
+  const Model model = RandomModel(0.0, SpringLaw::kLinear);
+  const Eigen::Matrix3Xd x1 = Perturbed(model, 0.005, 1);
+  const Eigen::Matrix3Xd x2 = Perturbed(model, 0.005, 2);
+  ForceEvaluator one_pass(model, DispersionPasses::kOnePass);
+  ForceEvaluator two_pass(model, DispersionPasses::kTwoPass);
+  Eigen::Matrix3Xd f1 = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+  Eigen::Matrix3Xd f2 = f1;
+  // First evaluation: one-pass has no history yet and runs both passes.
+  one_pass.AccumulateForces(x1, &f1);
+  two_pass.AccumulateForces(x1, &f2);
+  EXPECT_LT((f1 - f2).norm(), 1e-12 * f2.norm());
+  // Same positions again: the lagged accumulators are exact.
+  f1.setZero();
+  one_pass.AccumulateForces(x1, &f1);
+  EXPECT_LT((f1 - f2).norm(), 1e-12 * f2.norm());
+  // New positions: one-pass uses x1's accumulators, so it differs from the exact forces.
+  f1.setZero();
+  f2.setZero();
+  one_pass.AccumulateForces(x2, &f1);
+  two_pass.AccumulateForces(x2, &f2);
+  EXPECT_GT((f1 - f2).norm(), 1e-3 * f2.norm());
+}
+
+TEST(ExtendedMsm, DispersionRatioRoundTripsAndMatchesLimits) {
+  for (const double nu : {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49}) {
+    EXPECT_NEAR(PoissonFromDispersionRatio(DispersionRatio(nu)), nu, 1e-12);
+  }
+  EXPECT_DOUBLE_EQ(DispersionRatio(0.25), 0.0);
+  EXPECT_NEAR(DispersionRatio(-0.999999), -1.0, 1e-5);
+  EXPECT_GT(DispersionRatio(0.4999), 1e3);
+  // Q = B / K_direct with B = lambda - mu, K_direct = 5 mu / 3.
+  const Material m = Material::FromYoungsPoisson(1.0, 0.4, 1.0);
+  EXPECT_NEAR(DispersionRatio(0.4), (m.lame_lambda() - m.shear_modulus()) / (5.0 / 3.0 * m.shear_modulus()),
+              1e-12);
+}
+
+}  // namespace
+}  // namespace msm_sim::core
