@@ -6,14 +6,35 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "msm_sim/core/dof_constraints.h"
 #include "msm_sim/core/force_evaluator.h"
 #include "msm_sim/core/hardy_stress.h"
-#include "msm_sim/core/linear_fit.h"
 #include "msm_sim/core/momentum_flow.h"
 #include "msm_sim/core/strain_probe.h"
 
 namespace msm_sim::core {
+
+namespace {
+
+// Right stretch tensor U = sqrt(F^T F) of the least-squares affine map x = F X + c over `nodes`.
+Eigen::Matrix3d CentralStretch(const Eigen::Matrix3Xd& rest, const Eigen::Matrix3Xd& positions,
+                               const std::vector<int>& nodes, const Eigen::Vector3d& centre) {
+  Eigen::MatrixXd design(nodes.size(), 4);
+  Eigen::MatrixXd target(nodes.size(), 3);
+  for (std::size_t row = 0; row < nodes.size(); ++row) {
+    design.row(row) << (rest.col(nodes[row]) - centre).transpose(), 1.0;
+    target.row(row) = (positions.col(nodes[row]) - centre).transpose();
+  }
+  const Eigen::MatrixXd solution = design.colPivHouseholderQr().solve(target);  // 4 x 3
+  const Eigen::Matrix3d f = solution.topRows<3>().transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(f.transpose() * f);
+  return eigen.eigenvectors() * eigen.eigenvalues().cwiseSqrt().asDiagonal() *
+         eigen.eigenvectors().transpose();
+}
+
+}  // namespace
 
 double StressCorrectedPoisson(const Eigen::Matrix3d& e, const Eigen::Matrix3d& s) {
   // From e_xx = (s_xx - nu (s_yy + s_zz)) / E and e_yy = (s_yy - nu (s_xx + s_zz)) / E.
@@ -78,33 +99,30 @@ CompressionTestResult RunCompressionTest(const Model& model,
   const double area = size.y() * size.z();
   result.youngs_measured = (result.axial_force / area) / options.strain;
 
-  // nu from displacement regressions over the central region.
-  const Eigen::Matrix3Xd displacement = positions - rest;
-  std::vector<double> xs, ux, ys, uy, zs, uz;
+  // nu from the deformation of the central region: a least-squares affine fit
+  // x = F X + c over its nodes, then the right stretch U = sqrt(F^T F). Free-slip ends leave the
+  // rotation about x undetermined; U is blind to it, where slopes of u_y against y are not.
+  std::vector<int> central;
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d r = rest.col(i) - centre;
     if (std::abs(r.x()) > central_half_length) continue;
     if (std::abs(r.y()) > 0.5 * options.central_width_fraction * size.y()) continue;
     if (std::abs(r.z()) > 0.5 * options.central_width_fraction * size.z()) continue;
-    xs.push_back(r.x());
-    ux.push_back(displacement(0, i));
-    ys.push_back(r.y());
-    uy.push_back(displacement(1, i));
-    zs.push_back(r.z());
-    uz.push_back(displacement(2, i));
+    central.push_back(i);
   }
-  result.central_nodes = static_cast<int>(xs.size());
+  result.central_nodes = static_cast<int>(central.size());
   if (result.central_nodes < 8) {
     throw std::invalid_argument("only " + std::to_string(result.central_nodes) +
                                 " nodes in the central region; refine the lattice");
   }
-  const double strain_xx = LeastSquaresSlope(xs, ux);
-  const double strain_lateral = 0.5 * (LeastSquaresSlope(ys, uy) + LeastSquaresSlope(zs, uz));
+  const Eigen::Matrix3d stretch = CentralStretch(rest, positions, central, centre);
+  const double strain_xx = stretch(0, 0) - 1.0;
+  const double strain_lateral = 0.5 * (stretch(1, 1) + stretch(2, 2)) - 1.0;
   result.poisson_measured = -strain_lateral / strain_xx;
 
   // Stress-corrected values from point probes at the centre (thesis 3.1).
   const StrainProbe probe(rest);
-  const auto centre_strain = probe.StrainAt(centre, displacement, 0.5 * a);
+  const auto centre_strain = probe.StrainAt(centre, positions - rest, 0.5 * a);
   result.centre_stress = HardyStress(model, positions, tensions, centre, 1.3 * a);
   if (centre_strain) {
     result.centre_strain = *centre_strain;

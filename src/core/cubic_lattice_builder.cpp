@@ -193,6 +193,8 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
   }
 
   if (options.compensate_surface) {
+    // Missing neighbours mirrored onto each spring end (a, b); see BuildCubicLattice.
+    std::vector<int> mirrored(2 * static_cast<std::size_t>(builder.num_springs()), 0);
     for (int node = 0; node < n; ++node) {
       for (int o = 0; o < kNumHalfOffsets; ++o) {
         for (const int sign : {1, -1}) {
@@ -204,8 +206,18 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
           const SpringIndex s = sign > 0 ? spring_of[opposite * kNumHalfOffsets + o]
                                          : spring_of[node * kNumHalfOffsets + o];
           builder.AddStiffness(s, 0.5 * kappa);
+          mirrored[2 * s + (builder.spring_node_a(s) == node ? 0 : 1)] += 1;
         }
       }
+    }
+    // In node i's star the spring (i, i - d) stands for itself and for each mirrored neighbour:
+    // outflow weight 1 + mirrors. Its tension k dL, with k = kappa (w_a + w_b) / 2, is shared by
+    // the ends in proportion, so each end counts its own copies at the nominal kappa dL.
+    for (SpringIndex s = 0; s < builder.num_springs(); ++s) {
+      const double wa = 1.0 + mirrored[2 * s];
+      const double wb = 1.0 + mirrored[2 * s + 1];
+      builder.SetDispersionWeights(s, builder.spring_node_a(s), wa, 2.0 * wa / (wa + wb));
+      builder.SetDispersionWeights(s, builder.spring_node_b(s), wb, 2.0 * wb / (wa + wb));
     }
   }
   return builder.Build(n * a * a * a, a);
@@ -280,8 +292,14 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
   for (int node = 0; node < n; ++node) {
     for (int o = 0; o < kNumHalfOffsets; ++o) {
       const double k = stiffness[node * kNumHalfOffsets + o];
-      if (k > 0.0)
-        builder.AddSpring(node, corner_index.Find(corner_coords[node] + kHalfOffsets[o]), k);
+      if (k <= 0.0) continue;
+      const int other = corner_index.Find(corner_coords[node] + kHalfOffsets[o]);
+      const SpringIndex s = builder.AddSpring(node, other, k);
+      // A spring shared by fewer elements than in the bulk stands for that fraction of a bulk
+      // spring in both end stars, so it receives that fraction of the dispersed momentum (its
+      // tension already carries the fraction into the inflow).
+      builder.SetDispersionWeights(s, node, k / kappa, 1.0);
+      builder.SetDispersionWeights(s, other, k / kappa, 1.0);
     }
   }
   return builder.Build(static_cast<double>(elements.size()) * a * a * a, a);

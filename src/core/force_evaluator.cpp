@@ -5,10 +5,16 @@ namespace msm_sim::core {
 ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
     : model_(model), passes_(passes) {
   const int n = model.num_nodes();
-  inverse_spring_count_.resize(n);
+  // Star weight W of every node: the sum of its springs' outflow weights (the spring count b
+  // when every weight is 1, as in the eMSM paper).
+  Eigen::VectorXd star_weight = Eigen::VectorXd::Zero(n);
+  for (int s = 0; s < model.num_springs(); ++s) {
+    star_weight[model.spring_node_a()[s]] += model.outflow_weight_a()[s];
+    star_weight[model.spring_node_b()[s]] += model.outflow_weight_b()[s];
+  }
+  inverse_star_weight_.resize(n);
   for (int i = 0; i < n; ++i) {
-    const int b = model.num_incident_springs(i);
-    inverse_spring_count_[i] = b > 0 ? 1.0 / b : 0.0;
+    inverse_star_weight_[i] = star_weight[i] > 0.0 ? 1.0 / star_weight[i] : 0.0;
   }
   const int s = model.num_springs();
   total_tensions_.setZero(s);
@@ -17,6 +23,14 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
   directions_.setZero(3, s);
   lengths_.setZero(s);
   tangent_stiffness_.setZero(s);
+}
+
+double ForceEvaluator::DispersedTension(const Eigen::VectorXd& accumulator, int s) const {
+  const int a = model_.spring_node_a()[s];
+  const int b = model_.spring_node_b()[s];
+  return (model_.outflow_weight_a()[s] * accumulator[a] * inverse_star_weight_[a] +
+          model_.outflow_weight_b()[s] * accumulator[b] * inverse_star_weight_[b]) /
+         model_.spring_rest_length()[s];
 }
 
 template <SpringLaw Law>
@@ -39,13 +53,9 @@ double ForceEvaluator::DirectPass(const Eigen::Matrix3Xd& positions, Eigen::Matr
     double total = t;
     if (disperse) {
       const double inflow = q * rest[s] * t;
-      accumulator_[a[s]] += inflow;
-      accumulator_[b[s]] += inflow;
-      if (one_pass_dispersion) {
-        total += (previous_accumulator_[a[s]] * inverse_spring_count_[a[s]] +
-                  previous_accumulator_[b[s]] * inverse_spring_count_[b[s]]) /
-                 rest[s];
-      }
+      accumulator_[a[s]] += model_.inflow_weight_a()[s] * inflow;
+      accumulator_[b[s]] += model_.inflow_weight_b()[s] * inflow;
+      if (one_pass_dispersion) total += DispersedTension(previous_accumulator_, s);
     }
     total_tensions_[s] = total;
     if (disperse) directions_.col(s) = u;  // reused by the second pass
@@ -59,11 +69,8 @@ double ForceEvaluator::DirectPass(const Eigen::Matrix3Xd& positions, Eigen::Matr
 void ForceEvaluator::DispersionPass(Eigen::Matrix3Xd* forces) {
   const auto& a = model_.spring_node_a();
   const auto& b = model_.spring_node_b();
-  const auto& rest = model_.spring_rest_length();
   for (int s = 0; s < model_.num_springs(); ++s) {
-    const double dispersed = (accumulator_[a[s]] * inverse_spring_count_[a[s]] +
-                              accumulator_[b[s]] * inverse_spring_count_[b[s]]) /
-                             rest[s];
+    const double dispersed = DispersedTension(accumulator_, s);
     total_tensions_[s] += dispersed;
     const Eigen::Vector3d f = dispersed * directions_.col(s);
     forces->col(a[s]) += f;
@@ -140,15 +147,13 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
     if (q != 0.0) {
-      accumulator_change[a[s]] += q * rest[s] * dt;
-      accumulator_change[b[s]] += q * rest[s] * dt;
+      accumulator_change[a[s]] += model_.inflow_weight_a()[s] * q * rest[s] * dt;
+      accumulator_change[b[s]] += model_.inflow_weight_b()[s] * q * rest[s] * dt;
     }
   }
   if (q == 0.0) return;
   for (int s = 0; s < model_.num_springs(); ++s) {
-    const double dt_dispersed = (accumulator_change[a[s]] * inverse_spring_count_[a[s]] +
-                                 accumulator_change[b[s]] * inverse_spring_count_[b[s]]) /
-                                rest[s];
+    const double dt_dispersed = DispersedTension(accumulator_change, s);
     const Eigen::Vector3d df = dt_dispersed * directions_.col(s);
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
@@ -175,18 +180,22 @@ Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
     diagonal.col(a[s]) += block;
     diagonal.col(b[s]) += block;
     if (q != 0.0) {
-      // Through J of the other end node.
-      diagonal.col(a[s]) += q * kt * inverse_spring_count_[b[s]] * u2;
-      diagonal.col(b[s]) += q * kt * inverse_spring_count_[a[s]] * u2;
-      s1.col(a[s]) += u / rest[s];
-      s1.col(b[s]) -= u / rest[s];
-      s2.col(a[s]) += rest[s] * kt * u;
-      s2.col(b[s]) -= rest[s] * kt * u;
+      // t*_s = (w_a J_a / W_a + w_b J_b / W_b) / L0 depends on x_a through J_b (this spring's
+      // inflow at b) and through J_a (every spring at a): the latter is the outer product
+      // (q / W_a) s1 s2^T with s1 = sum w u / L0, s2 = sum v L0 k' u (u pointing away).
+      const double wa = model_.outflow_weight_a()[s] * inverse_star_weight_[a[s]];
+      const double wb = model_.outflow_weight_b()[s] * inverse_star_weight_[b[s]];
+      diagonal.col(a[s]) += q * kt * wb * model_.inflow_weight_b()[s] * u2;
+      diagonal.col(b[s]) += q * kt * wa * model_.inflow_weight_a()[s] * u2;
+      s1.col(a[s]) += model_.outflow_weight_a()[s] * u / rest[s];
+      s1.col(b[s]) -= model_.outflow_weight_b()[s] * u / rest[s];
+      s2.col(a[s]) += model_.inflow_weight_a()[s] * rest[s] * kt * u;
+      s2.col(b[s]) -= model_.inflow_weight_b()[s] * rest[s] * kt * u;
     }
   }
   if (q != 0.0) {
     for (int i = 0; i < n; ++i) {
-      diagonal.col(i) += q * inverse_spring_count_[i] * s1.col(i).cwiseProduct(s2.col(i));
+      diagonal.col(i) += q * inverse_star_weight_[i] * s1.col(i).cwiseProduct(s2.col(i));
     }
   }
   return diagonal;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/model_builder.h"
 #include "msm_sim/core/spatial_hash_grid.h"
@@ -31,6 +33,34 @@ void Validate(const RandomLatticeOptions& options) {
                                 std::to_string(options.min_distance) + " and " +
                                 std::to_string(options.max_distance));
   }
+}
+
+struct StarSpring {
+  SpringIndex spring;
+  Eigen::Vector3d direction;  // unit, pointing away from the node
+};
+
+// The eMSM disperses a node's momentum inflow as a pressure only if the node's star is
+// isotropic, sum w u u^T = (sum w / 3) I. Random stars are not, and the anisotropy leaks q times
+// into the shear response: harmless for q < 0 (|q| < 1/2), but for nu -> 1/2 q grows without
+// bound (q = 14 at nu = 0.49, where E came out 12 % high). So for q > 0 choose the least-norm
+// outflow weights w = 1 + d with sum d = 0 that make the star isotropic (6 linear conditions).
+// Stars with fewer than 7 springs, or that would need a weight below 0.2, keep w = 1.
+void SetIsotropicOutflowWeights(NodeIndex node, const std::vector<StarSpring>& star,
+                                ModelBuilder* builder) {
+  const int b = static_cast<int>(star.size());
+  if (b < 7) return;
+  Eigen::MatrixXd a(6, b);
+  for (int n = 0; n < b; ++n) {
+    const Eigen::Vector3d& u = star[n].direction;
+    a.col(n) << u.x() * u.x() - u.z() * u.z(), u.y() * u.y() - u.z() * u.z(), u.x() * u.y(),
+        u.x() * u.z(), u.y() * u.z(), 1.0;
+  }
+  Eigen::VectorXd target = -a.rowwise().sum();
+  target[5] = 0.0;  // keep W = b
+  const Eigen::VectorXd d = a.transpose() * (a * a.transpose()).ldlt().solve(target);
+  if (!d.allFinite() || d.minCoeff() < -0.8) return;
+  for (int n = 0; n < b; ++n) builder->SetDispersionWeights(star[n].spring, node, 1.0 + d[n], 1.0);
 }
 
 }  // namespace
@@ -98,8 +128,16 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
   double sum_shape = 0.0;
   for (const Pair& pair : pairs) sum_shape += inverse_square ? 1.0 : pair.length * pair.length;
   const double c = DirectSpringSumKL2(material, volume) / sum_shape;
+  std::vector<std::vector<StarSpring>> stars(target);
   for (const Pair& pair : pairs) {
-    builder.AddSpring(pair.i, pair.j, inverse_square ? c / (pair.length * pair.length) : c);
+    const SpringIndex s =
+        builder.AddSpring(pair.i, pair.j, inverse_square ? c / (pair.length * pair.length) : c);
+    const Eigen::Vector3d u = (points[pair.j] - points[pair.i]) / pair.length;
+    stars[pair.i].push_back({s, u});
+    stars[pair.j].push_back({s, -u});
+  }
+  if (options.isotropic_dispersion && DispersionFraction(material.poisson_ratio()) > 0.0) {
+    for (int i = 0; i < target; ++i) SetIsotropicOutflowWeights(i, stars[i], &builder);
   }
   return builder.Build(volume, std::cbrt(volume / target));
 }

@@ -14,7 +14,7 @@ struct CompressionTestOptions {
   /// Nodes whose rest x is within this distance (m) of either x face are moved affinely along x
   /// and left free in y and z (ends that slide laterally). <= 0: 1.5 x the longest rest spring.
   double end_region_width = 0.0;
-  /// The central region used for strain regression: |x - xc| <= fraction Lx / 2 and the central
+  /// The central region whose deformation gives nu: |x - xc| <= fraction Lx / 2 and the central
   /// 80 % of the width in y and z (thesis).
   double central_length_fraction = 0.5;
   double central_width_fraction = 0.8;

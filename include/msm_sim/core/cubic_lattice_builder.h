@@ -47,7 +47,9 @@ struct CubicLatticeOptions {
 /// node. Under any uniform strain a spring's energy only depends on its direction and k L^2, so
 /// this restores exactly the bulk stiffness tensor per node (and thus E and nu of a homogeneously
 /// strained block), without adding nodes or springs. A node missing both i + d and i - d (a layer
-/// one cell thick) cannot be compensated along d.
+/// one cell thick) cannot be compensated along d. The eMSM dispersion sees the same picture: the
+/// spring (i, i - d) counts twice in node i's star (Model::outflow_weight_a), so a surface node
+/// disperses like a bulk node under a homogeneous strain.
 ///
 /// Throws std::invalid_argument on non-positive or non-finite sizes or spacing, a spacing larger
 /// than the smallest box edge, a zero rotation axis, or more than max_nodes nodes.

@@ -17,16 +17,16 @@ enum class DispersionPasses {
 
 /// Internal forces of a Model: spring tensions under the model's spring law plus, for an eMSM,
 /// the dispersed tensions t*_n = (J_a / b_a + J_b / b_b) / L0_n with J_x = q sum L0_i t_i over the
-/// springs at node x (SPEC.md §3). Loops stream over the model's spring arrays; the spring law is
-/// a template parameter, so there is no per-spring dispatch.
+/// springs at node x (SPEC.md §3). With the model's dispersion weights (Model::outflow_weight_a
+/// and inflow_weight_a) a node accumulates J = q sum v L0 t, spring n receives w_n J / W with
+/// W = sum w in place of J / b; all weights 1 is the paper's algorithm.
 ///
 /// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
 /// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
 /// model.num_nodes() columns and no spring has zero length.
 class ForceEvaluator {
  public:
-  explicit ForceEvaluator(const Model& model,
-                          DispersionPasses passes = DispersionPasses::kTwoPass);
+  explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass);
 
   /// Adds the internal forces at `positions` to *forces (3 x N, N) and returns the elastic energy
   /// of the direct springs (J). The dispersion has no potential in general (it has one when all
@@ -55,17 +55,18 @@ class ForceEvaluator {
   template <SpringLaw Law>
   void LinearizeImpl(const Eigen::Matrix3Xd& positions);
   void DispersionPass(Eigen::Matrix3Xd* forces);
+  double DispersedTension(const Eigen::VectorXd& accumulator, int spring) const;
 
   const Model& model_;
   DispersionPasses passes_;
-  Eigen::VectorXd inverse_spring_count_;   // 1 / b per node
-  Eigen::VectorXd total_tensions_;         // direct + dispersed
-  Eigen::VectorXd accumulator_;            // J per node
-  Eigen::VectorXd previous_accumulator_;   // J of the previous evaluation (one-pass)
+  Eigen::VectorXd inverse_star_weight_;   // 1 / W per node
+  Eigen::VectorXd total_tensions_;        // direct + dispersed
+  Eigen::VectorXd accumulator_;           // J per node
+  Eigen::VectorXd previous_accumulator_;  // J of the previous evaluation (one-pass)
   bool has_previous_accumulator_ = false;
-  Eigen::Matrix3Xd directions_;            // unit vectors a -> b (dispersion, linearisation)
+  Eigen::Matrix3Xd directions_;  // unit vectors a -> b (dispersion, linearisation)
   Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;      // dt / dL per spring (linearisation)
+  Eigen::VectorXd tangent_stiffness_;  // dt / dL per spring (linearisation)
 };
 
 }  // namespace msm_sim::core

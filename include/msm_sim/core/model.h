@@ -40,6 +40,15 @@ class Model {
   const std::vector<double>& spring_rest_length() const { return spring_rest_length_; }
   /// Linear stiffnesses (N/m).
   const std::vector<double>& spring_stiffness() const { return spring_stiffness_; }
+  /// eMSM dispersion weights of each spring at its end node a (resp. b), SPEC.md §3 generalised:
+  /// node x accumulates J_x = q sum_n v_n L0_n t_n (inflow weights v) and spring n receives
+  /// w_n J_x / W_x of it (outflow weights w, W_x = sum w over x's springs). All 1 is the eMSM
+  /// paper's algorithm. Builders change them where a node's star would otherwise disperse
+  /// anisotropically (surface nodes of a cubic lattice, random stars).
+  const std::vector<double>& outflow_weight_a() const { return outflow_weight_a_; }
+  const std::vector<double>& outflow_weight_b() const { return outflow_weight_b_; }
+  const std::vector<double>& inflow_weight_a() const { return inflow_weight_a_; }
+  const std::vector<double>& inflow_weight_b() const { return inflow_weight_b_; }
 
   /// Compressed adjacency: springs incident to node i are
   /// incident_springs()[incidence_offsets()[i] .. incidence_offsets()[i + 1]).
@@ -72,6 +81,10 @@ class Model {
   std::vector<NodeIndex> spring_node_b_;
   std::vector<double> spring_rest_length_;
   std::vector<double> spring_stiffness_;
+  std::vector<double> outflow_weight_a_;
+  std::vector<double> outflow_weight_b_;
+  std::vector<double> inflow_weight_a_;
+  std::vector<double> inflow_weight_b_;
   std::vector<std::int32_t> incidence_offsets_;
   std::vector<SpringIndex> incident_springs_;
   Material material_;

@@ -23,6 +23,15 @@ class ModelBuilder {
   SpringIndex AddSpring(NodeIndex a, NodeIndex b, double stiffness);
   /// Adds `extra` (N/m) to an existing spring's stiffness.
   void AddStiffness(SpringIndex spring, double extra);
+  /// Sets the eMSM dispersion weights of `spring` at its end `node` (both start at 1; see
+  /// Model::outflow_weight_a). Precondition: node is one of the spring's ends; weights >= 0.
+  void SetDispersionWeights(SpringIndex spring, NodeIndex node, double outflow, double inflow);
+  double outflow_weight(SpringIndex spring, NodeIndex node) const {
+    return node_a_[spring] == node ? outflow_a_[spring] : outflow_b_[spring];
+  }
+  NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
+  NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
+  double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
   void SetSpringLaw(SpringLaw law) { spring_law_ = law; }
   /// eMSM dispersion fraction q; precondition: q > -1/2 (Q > -1).
   void SetDispersionFraction(double q) { dispersion_fraction_ = q; }
@@ -46,6 +55,10 @@ class ModelBuilder {
   std::vector<NodeIndex> node_b_;
   std::vector<double> rest_length_;
   std::vector<double> stiffness_;
+  std::vector<double> outflow_a_;
+  std::vector<double> outflow_b_;
+  std::vector<double> inflow_a_;
+  std::vector<double> inflow_b_;
 };
 
 }  // namespace msm_sim::core

@@ -26,6 +26,9 @@ struct RandomLatticeOptions {
   std::uint64_t seed = 1;     ///< same seed, same model
   RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
   SpringLaw spring_law = SpringLaw::kLinear;
+  /// eMSM with nu > 1/4: weight each node's springs so that it disperses an isotropic pressure
+  /// (see SetIsotropicOutflowWeights in the source). Off gives the eMSM paper's equal shares.
+  bool isotropic_dispersion = true;
   /// Random sequential addition gives up after this many draws per requested node.
   int max_draws_per_node = 1000;
   int max_nodes = 2'000'000;
