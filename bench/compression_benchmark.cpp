@@ -1,5 +1,5 @@
-// Google Benchmarks of the virtual compression test (issue target: ~16k nodes in under 10 s on
-// two cores). Run with `make bench`.
+// Google Benchmarks (run with `make bench`): the virtual compression test (issue target: ~16k
+// nodes in under 10 s on two cores) and the cost of one force evaluation.
 #include <benchmark/benchmark.h>
 
 #include "msm_sim/core/compression_test.h"
@@ -47,21 +47,40 @@ void BM_CompressionRandom16k(benchmark::State& state) {
 }
 BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 
-// One spring force evaluation on the 16k-node cubic block (the dynamics hot loop).
-void BM_SpringForces16k(benchmark::State& state) {
+// One force evaluation on a node-centred cubic block 2 x 1 x 1 m at a = 1/18 m (11,664 nodes,
+// 96,579 springs): plain MSM (nu = 1/4) against the eMSM (nu = 0.45) with two-pass and one-pass
+// dispersion, and the non-linear spring law. Issue target: eMSM <= 1.6 x plain.
+void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPasses passes,
+                           SpringLaw law) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  lattice.spacing = 0.05;
-  const Model model = BuildCubicLattice(kMaterial, lattice);
-  ForceEvaluator evaluator(model);
+  lattice.spacing = 1.0 / 18.0;
+  lattice.spring_law = law;
+  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice);
+  ForceEvaluator evaluator(model, passes);
+  Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
   Eigen::Matrix3Xd forces(3, model.num_nodes());
   for (auto _ : state) {
     forces.setZero();
-    benchmark::DoNotOptimize(evaluator.AccumulateForces(model.rest_positions(), &forces));
+    evaluator.AccumulateForces(positions, &forces);
+    benchmark::DoNotOptimize(forces.data());
+    benchmark::ClobberMemory();
   }
+  state.counters["nodes"] = model.num_nodes();
   state.counters["springs"] = model.num_springs();
 }
-BENCHMARK(BM_SpringForces16k)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain, 0.25, DispersionPasses::kTwoPass,
+                  SpringLaw::kLinear)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, emsm_two_pass, 0.45, DispersionPasses::kTwoPass,
+                  SpringLaw::kLinear)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, emsm_one_pass, 0.45, DispersionPasses::kOnePass,
+                  SpringLaw::kLinear)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain_nonlinear, 0.25, DispersionPasses::kTwoPass,
+                  SpringLaw::kNonlinear)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace msm_sim::core

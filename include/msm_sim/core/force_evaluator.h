@@ -28,10 +28,13 @@ class ForceEvaluator {
  public:
   explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass);
 
-  /// Adds the internal forces at `positions` to *forces (3 x N, N) and returns the elastic energy
-  /// of the direct springs (J). The dispersion has no potential in general (it has one when all
-  /// k L0^2 are equal), so its work is not included.
-  double AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  /// Adds the internal forces at `positions` to *forces (3 x N, N).
+  void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+
+  /// Elastic energy of the direct springs at `positions` (J). The dispersion has no potential in
+  /// general (it has one when all k L0^2 are equal), so its work is not included. Kept out of
+  /// AccumulateForces because the non-linear law's logarithm would double the cost of a step.
+  double DirectSpringEnergy(const Eigen::Matrix3Xd& positions) const;
 
   /// Direct plus dispersed tension of every spring at the last AccumulateForces (N, > 0
   /// stretched): what measurements such as momentum flow and Hardy stress must sum.
@@ -50,21 +53,30 @@ class ForceEvaluator {
 
  private:
   template <SpringLaw Law>
-  double DirectPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces,
-                    bool one_pass_dispersion);
+  void PlainPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law>
+  void InflowPass(const Eigen::Matrix3Xd& positions);
+  void OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law>
+  void LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law>
+  double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
   template <SpringLaw Law>
   void LinearizeImpl(const Eigen::Matrix3Xd& positions);
-  void DispersionPass(Eigen::Matrix3Xd* forces);
-  double DispersedTension(const Eigen::VectorXd& accumulator, int spring) const;
 
   const Model& model_;
   DispersionPasses passes_;
-  Eigen::VectorXd inverse_star_weight_;   // 1 / W per node
-  Eigen::VectorXd total_tensions_;        // direct + dispersed
-  Eigen::VectorXd accumulator_;           // J per node
-  Eigen::VectorXd previous_accumulator_;  // J of the previous evaluation (one-pass)
-  bool has_previous_accumulator_ = false;
-  Eigen::Matrix3Xd directions_;  // unit vectors a -> b (dispersion, linearisation)
+  // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 at each end, so that
+  // t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
+  Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
+  Eigen::VectorXd inverse_star_weight_;    // 1 / W per node
+  Eigen::VectorXd tensions_;               // direct tensions (two-pass)
+  Eigen::VectorXd inverse_lengths_;        // 1 / L (two-pass)
+  Eigen::VectorXd total_tensions_;         // direct + dispersed
+  Eigen::VectorXd accumulator_;            // J per node
+  Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
+  bool has_previous_dispersion_ = false;
+  Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
   Eigen::VectorXd lengths_;
   Eigen::VectorXd tangent_stiffness_;  // dt / dL per spring (linearisation)
 };
