@@ -11,7 +11,7 @@ packages=(
   libstd-msgs-dev libgeometry-msgs-dev ros-std-msgs ros-geometry-msgs
   python3-rostest librostest-dev python3-roslaunch
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
-  libcli11-dev nlohmann-json3-dev
+  libcli11-dev nlohmann-json3-dev python3-matplotlib
   googletest libgtest-dev libgmock-dev libbenchmark-dev
 )
 

@@ -210,14 +210,15 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
         }
       }
     }
-    // In node i's star the spring (i, i - d) stands for itself and for each mirrored neighbour:
-    // outflow weight 1 + mirrors. Its tension k dL, with k = kappa (w_a + w_b) / 2, is shared by
-    // the ends in proportion, so each end counts its own copies at the nominal kappa dL.
+    // In node i's star the spring (i, i - d) stands for itself and for each mirrored neighbour
+    // (m copies at end i). Its tension k dL, with k = kappa (m_a + m_b) / 2, is shared by the
+    // ends in proportion: weight v = 2 m / (m_a + m_b), so each end counts its own copies at the
+    // nominal kappa dL (and receives m copies' share of the dispersion, w = v k L0^2).
     for (SpringIndex s = 0; s < builder.num_springs(); ++s) {
-      const double wa = 1.0 + mirrored[2 * s];
-      const double wb = 1.0 + mirrored[2 * s + 1];
-      builder.SetDispersionWeights(s, builder.spring_node_a(s), wa, 2.0 * wa / (wa + wb));
-      builder.SetDispersionWeights(s, builder.spring_node_b(s), wb, 2.0 * wb / (wa + wb));
+      const double ma = 1.0 + mirrored[2 * s];
+      const double mb = 1.0 + mirrored[2 * s + 1];
+      builder.SetDispersionWeight(s, builder.spring_node_a(s), 2.0 * ma / (ma + mb));
+      builder.SetDispersionWeight(s, builder.spring_node_b(s), 2.0 * mb / (ma + mb));
     }
   }
   return builder.Build(n * a * a * a, a);
@@ -294,12 +295,10 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
       const double k = stiffness[node * kNumHalfOffsets + o];
       if (k <= 0.0) continue;
       const int other = corner_index.Find(corner_coords[node] + kHalfOffsets[o]);
-      const SpringIndex s = builder.AddSpring(node, other, k);
       // A spring shared by fewer elements than in the bulk stands for that fraction of a bulk
-      // spring in both end stars, so it receives that fraction of the dispersed momentum (its
-      // tension already carries the fraction into the inflow).
-      builder.SetDispersionWeights(s, node, k / kappa, 1.0);
-      builder.SetDispersionWeights(s, other, k / kappa, 1.0);
+      // spring in both end stars: its tension and k already carry the fraction into the inflow
+      // and (through w = v k L0^2) into the share of dispersed momentum it receives, so v = 1.
+      builder.AddSpring(node, other, k);
     }
   }
   return builder.Build(static_cast<double>(elements.size()) * a * a * a, a);

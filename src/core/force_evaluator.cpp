@@ -5,12 +5,12 @@
 namespace msm_sim::core {
 
 ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
-    : model_(model), passes_(passes) {
+    : model_(&model), passes_(passes) {
   const int n = model.num_nodes();
   const int num_springs = model.num_springs();
   const double q = model.dispersion_fraction();
-  // Star weight W of every node: the sum of its springs' outflow weights (the spring count b
-  // when every weight is 1, as in the eMSM paper).
+  // Star weight W of every node: the sum of its springs' outflow weights w = v k L0^2 (the
+  // spring count b, up to a common factor, for the paper's equal shares).
   Eigen::VectorXd star_weight = Eigen::VectorXd::Zero(n);
   inflow_a_.resize(num_springs);
   inflow_b_.resize(num_springs);
@@ -18,12 +18,16 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
   outflow_b_.resize(num_springs);
   for (int s = 0; s < num_springs; ++s) {
     const double rest = model.spring_rest_length()[s];
-    star_weight[model.spring_node_a()[s]] += model.outflow_weight_a()[s];
-    star_weight[model.spring_node_b()[s]] += model.outflow_weight_b()[s];
-    inflow_a_[s] = q * rest * model.inflow_weight_a()[s];
-    inflow_b_[s] = q * rest * model.inflow_weight_b()[s];
-    outflow_a_[s] = model.outflow_weight_a()[s] / rest;
-    outflow_b_[s] = model.outflow_weight_b()[s] / rest;
+    const double k_l2 = model.spring_stiffness()[s] * rest * rest;
+    const double va = model.dispersion_weight_a()[s];
+    const double vb = model.dispersion_weight_b()[s];
+    // w = v k L0^2 makes the dispersion conservative (see Model::dispersion_weight_a).
+    star_weight[model.spring_node_a()[s]] += va * k_l2;
+    star_weight[model.spring_node_b()[s]] += vb * k_l2;
+    inflow_a_[s] = q * rest * va;
+    inflow_b_[s] = q * rest * vb;
+    outflow_a_[s] = va * k_l2 / rest;
+    outflow_b_[s] = vb * k_l2 / rest;
   }
   inverse_star_weight_.resize(n);
   for (int i = 0; i < n; ++i) {
@@ -73,11 +77,11 @@ inline double Separation(const double* __restrict x, int a, int b, double r[3]) 
 
 template <SpringLaw Law>
 void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
-  const SpringArrays springs = Arrays(model_);
+  const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   double* __restrict f = forces->data();
   double* __restrict total = total_tensions_.data();
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     double r[3];
     const double length = Separation(x, springs.a[s], springs.b[s], r);
     const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
@@ -88,7 +92,7 @@ void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3
 
 template <SpringLaw Law>
 void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
-  const SpringArrays springs = Arrays(model_);
+  const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict inflow_a = inflow_a_.data();
   const double* __restrict inflow_b = inflow_b_.data();
@@ -96,7 +100,7 @@ void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
   double* __restrict inverse_lengths = inverse_lengths_.data();
   double* __restrict accumulator = accumulator_.data();
   accumulator_.setZero();
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     double r[3];
     const double length = Separation(x, springs.a[s], springs.b[s], r);
     const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
@@ -108,7 +112,7 @@ void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
 }
 
 void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
-  const SpringArrays springs = Arrays(model_);
+  const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict g = dispersion_per_weight_.data();
   const double* __restrict outflow_a = outflow_a_.data();
@@ -117,7 +121,7 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matri
   const double* __restrict inverse_lengths = inverse_lengths_.data();
   double* __restrict total = total_tensions_.data();
   double* __restrict f = forces->data();
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     const int a = springs.a[s];
     const int b = springs.b[s];
     const double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
@@ -131,7 +135,7 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matri
 
 template <SpringLaw Law>
 void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
-  const SpringArrays springs = Arrays(model_);
+  const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict g = dispersion_per_weight_.data();  // of the previous evaluation
   const double* __restrict inflow_a = inflow_a_.data();
@@ -142,7 +146,7 @@ void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix
   double* __restrict total = total_tensions_.data();
   double* __restrict f = forces->data();
   accumulator_.setZero();
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     const int a = springs.a[s];
     const int b = springs.b[s];
     double r[3];
@@ -157,8 +161,8 @@ void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix
 }
 
 void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
-  const bool linear = model_.spring_law() == SpringLaw::kLinear;
-  if (model_.dispersion_fraction() == 0.0) {
+  const bool linear = model_->spring_law() == SpringLaw::kLinear;
+  if (model_->dispersion_fraction() == 0.0) {
     linear ? PlainPass<SpringLaw::kLinear>(positions, forces)
            : PlainPass<SpringLaw::kNonlinear>(positions, forces);
     return;
@@ -180,29 +184,41 @@ void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::
 
 template <SpringLaw Law>
 double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
-  const auto& a = model_.spring_node_a();
-  const auto& b = model_.spring_node_b();
-  const auto& rest = model_.spring_rest_length();
-  const auto& k = model_.spring_stiffness();
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& k = model_->spring_stiffness();
+  const double q = model_->dispersion_fraction();
+  Eigen::VectorXd accumulator = Eigen::VectorXd::Zero(q != 0.0 ? model_->num_nodes() : 0);
   double energy = 0.0;
-  for (int s = 0; s < model_.num_springs(); ++s) {
-    energy += SpringEnergy<Law>(k[s], rest[s], (positions.col(b[s]) - positions.col(a[s])).norm());
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const double length = (positions.col(b[s]) - positions.col(a[s])).norm();
+    energy += SpringEnergy<Law>(k[s], rest[s], length);
+    if (q != 0.0) {
+      const double t = SpringTension<Law>(k[s], rest[s], length);
+      accumulator[a[s]] += inflow_a_[s] * t;
+      accumulator[b[s]] += inflow_b_[s] * t;
+    }
+  }
+  // Phi = sum J^2 / (2 q W); inverse_star_weight_ holds 1 / W.
+  if (q != 0.0) {
+    energy += 0.5 / q * accumulator.cwiseAbs2().dot(inverse_star_weight_);
   }
   return energy;
 }
 
-double ForceEvaluator::DirectSpringEnergy(const Eigen::Matrix3Xd& positions) const {
-  return model_.spring_law() == SpringLaw::kLinear ? EnergyImpl<SpringLaw::kLinear>(positions)
-                                                   : EnergyImpl<SpringLaw::kNonlinear>(positions);
+double ForceEvaluator::ElasticEnergy(const Eigen::Matrix3Xd& positions) const {
+  return model_->spring_law() == SpringLaw::kLinear ? EnergyImpl<SpringLaw::kLinear>(positions)
+                                                    : EnergyImpl<SpringLaw::kNonlinear>(positions);
 }
 
 template <SpringLaw Law>
 void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
-  const auto& a = model_.spring_node_a();
-  const auto& b = model_.spring_node_b();
-  const auto& rest = model_.spring_rest_length();
-  const auto& k = model_.spring_stiffness();
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& k = model_->spring_stiffness();
+  for (int s = 0; s < model_->num_springs(); ++s) {
     const Eigen::Vector3d r = positions.col(b[s]) - positions.col(a[s]);
     lengths_[s] = r.norm();
     directions_.col(s) = r / lengths_[s];
@@ -217,25 +233,25 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions) {
   const bool saved_has_previous = has_previous_dispersion_;
   const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
   passes_ = DispersionPasses::kTwoPass;
-  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_.num_nodes());
+  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
   AccumulateForces(positions, &scratch);
   passes_ = saved_passes;
   has_previous_dispersion_ = saved_has_previous;
   dispersion_per_weight_ = saved_dispersion;
-  model_.spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
-                                            : LinearizeImpl<SpringLaw::kNonlinear>(positions);
+  model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
+                                             : LinearizeImpl<SpringLaw::kNonlinear>(positions);
 }
 
 void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
-  const auto& a = model_.spring_node_a();
-  const auto& b = model_.spring_node_b();
-  const bool disperse = model_.dispersion_fraction() != 0.0;
-  out->setZero(3, model_.num_nodes());
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  out->setZero(3, model_->num_nodes());
   Eigen::VectorXd accumulator_change;
-  if (disperse) accumulator_change.setZero(model_.num_nodes());
+  if (disperse) accumulator_change.setZero(model_->num_nodes());
   // The force on a is T u (T total tension, u from a to b); its change is dT u + T du with
   // du = (dv - u (u . dv)) / L. K v = -d(force).
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     const Eigen::Vector3d dv = v.col(b[s]) - v.col(a[s]);
     const Eigen::Vector3d u = directions_.col(s);
     const double stretch_rate = u.dot(dv);
@@ -251,7 +267,7 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
   }
   if (!disperse) return;
   const Eigen::VectorXd dg = accumulator_change.cwiseProduct(inverse_star_weight_);
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     const double dt_dispersed = outflow_a_[s] * dg[a[s]] + outflow_b_[s] * dg[b[s]];
     const Eigen::Vector3d df = dt_dispersed * directions_.col(s);
     out->col(a[s]) -= df;
@@ -260,16 +276,16 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
 }
 
 Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
-  const auto& a = model_.spring_node_a();
-  const auto& b = model_.spring_node_b();
-  const bool disperse = model_.dispersion_fraction() != 0.0;
-  const int n = model_.num_nodes();
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  const int n = model_->num_nodes();
   Eigen::Matrix3Xd diagonal = Eigen::Matrix3Xd::Zero(3, n);
   // Dispersion couples node a to itself through J_a: (1 / W_a) s1 s2^T with s1 = sum (w / L0) u
   // and s2 = sum (q v L0) k' u over the springs at a (u pointing away from a).
   Eigen::Matrix3Xd s1 = Eigen::Matrix3Xd::Zero(3, n);
   Eigen::Matrix3Xd s2 = Eigen::Matrix3Xd::Zero(3, n);
-  for (int s = 0; s < model_.num_springs(); ++s) {
+  for (int s = 0; s < model_->num_springs(); ++s) {
     const Eigen::Vector3d u = directions_.col(s);
     const Eigen::Vector3d u2 = u.cwiseProduct(u);
     const double kt = tangent_stiffness_[s];

@@ -29,20 +29,15 @@ SpringIndex ModelBuilder::AddSpring(NodeIndex a, NodeIndex b, double stiffness) 
   node_b_.push_back(b);
   rest_length_.push_back(length);
   stiffness_.push_back(stiffness);
-  outflow_a_.push_back(1.0);
-  outflow_b_.push_back(1.0);
-  inflow_a_.push_back(1.0);
-  inflow_b_.push_back(1.0);
+  weight_a_.push_back(1.0);
+  weight_b_.push_back(1.0);
   return static_cast<SpringIndex>(stiffness_.size() - 1);
 }
 
 void ModelBuilder::AddStiffness(SpringIndex spring, double extra) { stiffness_[spring] += extra; }
 
-void ModelBuilder::SetDispersionWeights(SpringIndex spring, NodeIndex node, double outflow,
-                                        double inflow) {
-  const bool at_a = node_a_[spring] == node;
-  (at_a ? outflow_a_ : outflow_b_)[spring] = outflow;
-  (at_a ? inflow_a_ : inflow_b_)[spring] = inflow;
+void ModelBuilder::SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight) {
+  (node_a_[spring] == node ? weight_a_ : weight_b_)[spring] = weight;
 }
 
 Model ModelBuilder::Build(double volume, double characteristic_length) const {
@@ -62,10 +57,8 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
   model.spring_node_b_ = node_b_;
   model.spring_rest_length_ = rest_length_;
   model.spring_stiffness_ = stiffness_;
-  model.outflow_weight_a_ = outflow_a_;
-  model.outflow_weight_b_ = outflow_b_;
-  model.inflow_weight_a_ = inflow_a_;
-  model.inflow_weight_b_ = inflow_b_;
+  model.dispersion_weight_a_ = weight_a_;
+  model.dispersion_weight_b_ = weight_b_;
 
   // Compressed incidence lists (counting sort by node).
   model.incidence_offsets_.assign(n + 1, 0);

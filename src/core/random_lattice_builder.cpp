@@ -38,16 +38,18 @@ void Validate(const RandomLatticeOptions& options) {
 struct StarSpring {
   SpringIndex spring;
   Eigen::Vector3d direction;  // unit, pointing away from the node
+  double k_l2;                // k L0^2
 };
 
-// The eMSM disperses a node's momentum inflow as a pressure only if the node's star is
-// isotropic, sum w u u^T = (sum w / 3) I. Random stars are not, and the anisotropy leaks q times
-// into the shear response: harmless for q < 0 (|q| < 1/2), but for nu -> 1/2 q grows without
-// bound (q = 14 at nu = 0.49, where E came out 12 % high). So for q > 0 choose the least-norm
-// outflow weights w = 1 + d with sum d = 0 that make the star isotropic (6 linear conditions).
-// Stars with fewer than 7 springs, or that would need a weight below 0.2, keep w = 1.
-void SetIsotropicOutflowWeights(NodeIndex node, const std::vector<StarSpring>& star,
-                                ModelBuilder* builder) {
+// The eMSM disperses a node's momentum inflow as a pressure, and its inflow measures a volume
+// change only, if the node's star weighted by v k L0^2 is isotropic: sum v k L0^2 u u^T ∝ I.
+// Random stars are not, and the anisotropy leaks q times into the shear response: harmless for
+// q < 0 (|q| < 1/2), but for nu -> 1/2 q grows without bound (q = 14 at nu = 0.49, where E came
+// out 12 % high with v = 1). So for q > 0 choose the least-norm v = 1 + d that makes the star
+// isotropic while keeping sum v k L0^2 (6 linear conditions). Stars with fewer than 7 springs,
+// or that would need a weight below 0.2, keep v = 1.
+void SetIsotropicDispersionWeights(NodeIndex node, const std::vector<StarSpring>& star,
+                                   ModelBuilder* builder) {
   const int b = static_cast<int>(star.size());
   if (b < 7) return;
   Eigen::MatrixXd a(6, b);
@@ -55,12 +57,13 @@ void SetIsotropicOutflowWeights(NodeIndex node, const std::vector<StarSpring>& s
     const Eigen::Vector3d& u = star[n].direction;
     a.col(n) << u.x() * u.x() - u.z() * u.z(), u.y() * u.y() - u.z() * u.z(), u.x() * u.y(),
         u.x() * u.z(), u.y() * u.z(), 1.0;
+    a.col(n) *= star[n].k_l2;
   }
   Eigen::VectorXd target = -a.rowwise().sum();
-  target[5] = 0.0;  // keep W = b
+  target[5] = 0.0;  // keep sum v k L0^2
   const Eigen::VectorXd d = a.transpose() * (a * a.transpose()).ldlt().solve(target);
   if (!d.allFinite() || d.minCoeff() < -0.8) return;
-  for (int n = 0; n < b; ++n) builder->SetDispersionWeights(star[n].spring, node, 1.0 + d[n], 1.0);
+  for (int n = 0; n < b; ++n) builder->SetDispersionWeight(star[n].spring, node, 1.0 + d[n]);
 }
 
 }  // namespace
@@ -130,14 +133,15 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
   const double c = DirectSpringSumKL2(material, volume) / sum_shape;
   std::vector<std::vector<StarSpring>> stars(target);
   for (const Pair& pair : pairs) {
-    const SpringIndex s =
-        builder.AddSpring(pair.i, pair.j, inverse_square ? c / (pair.length * pair.length) : c);
+    const double k = inverse_square ? c / (pair.length * pair.length) : c;
+    const SpringIndex s = builder.AddSpring(pair.i, pair.j, k);
     const Eigen::Vector3d u = (points[pair.j] - points[pair.i]) / pair.length;
-    stars[pair.i].push_back({s, u});
-    stars[pair.j].push_back({s, -u});
+    const double k_l2 = k * pair.length * pair.length;
+    stars[pair.i].push_back({s, u, k_l2});
+    stars[pair.j].push_back({s, -u, k_l2});
   }
   if (options.isotropic_dispersion && DispersionFraction(material.poisson_ratio()) > 0.0) {
-    for (int i = 0; i < target; ++i) SetIsotropicOutflowWeights(i, stars[i], &builder);
+    for (int i = 0; i < target; ++i) SetIsotropicDispersionWeights(i, stars[i], &builder);
   }
   return builder.Build(volume, std::cbrt(volume / target));
 }

@@ -159,7 +159,7 @@ StaticSolverReport SolveStaticEquilibrium(const Model& model, const DofConstrain
                                           Eigen::Matrix3Xd* positions) {
   StaticSolverReport report;
   const std::vector<int> free_dofs = constraints.FreeDofs();
-  ForceEvaluator evaluator(model);
+  ForceEvaluator evaluator(model);  // exact (two-pass) dispersion
   Eigen::VectorXd residual = FreeResidual(&evaluator, *positions, external_forces, free_dofs);
   report.max_residual_force = MaxAbs(residual);
   if (!std::isfinite(report.max_residual_force)) {

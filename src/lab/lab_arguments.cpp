@@ -5,18 +5,26 @@
 namespace msm_sim::lab {
 namespace {
 
+constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep"};
+
+// Options describing the model. `required` is false for poisson-sweep, which has defaults.
 void AddModelOptions(CLI::App* command, ModelArguments* model, std::vector<double>* size,
-                     std::vector<double>* rotate) {
+                     std::vector<double>* rotate, bool required) {
   command->add_option("--model", model->model, "cubic | random")
       ->required()
       ->check(CLI::IsMember({"cubic", "random"}));
-  command->add_option("--size", *size, "body size LX LY LZ (m)")->expected(3)->required();
-  command
-      ->add_option("--spacing", model->spacing,
-                   "lattice spacing a (m); for --model random the characteristic spacing l")
-      ->required();
-  command->add_option("--youngs", model->youngs, "Young's modulus E (Pa)")->required();
-  command->add_option("--poisson", model->poisson, "Poisson's ratio nu")->required();
+  auto* size_option = command->add_option("--size", *size, "body size LX LY LZ (m)")->expected(3);
+  auto* spacing_option =
+      command->add_option("--spacing", model->spacing,
+                          "lattice spacing a (m); for --model random the characteristic spacing l");
+  auto* youngs_option = command->add_option("--youngs", model->youngs, "Young's modulus E (Pa)");
+  if (required) {
+    size_option->required();
+    spacing_option->required();
+    youngs_option->required();
+    command->add_option("--poisson", model->poisson, "Poisson's ratio nu, in (-1, 0.5)")
+        ->required();
+  }
   command->add_option("--density", model->density, "density (kg/m^3)")->capture_default_str();
   command->add_option("--construction", model->construction, "cubic lattice: node | corner")
       ->capture_default_str()
@@ -33,6 +41,14 @@ void AddModelOptions(CLI::App* command, ModelArguments* model, std::vector<doubl
                    "random lattice spring law: uniform | inverse-square")
       ->capture_default_str()
       ->check(CLI::IsMember({"uniform", "inverse-square"}));
+  command->add_option("--spring", model->spring, "spring tension law: linear | nonlinear")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"linear", "nonlinear"}));
+  command
+      ->add_option("--dispersion", model->dispersion,
+                   "eMSM dispersion: two-pass (exact) | one-pass (lagged accumulators)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"two-pass", "one-pass"}));
 }
 
 }  // namespace
@@ -47,21 +63,34 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
 
   CLI::App* compression = app.add_subcommand(
       "compression", "uniaxial compression along x: measured E and nu (thesis 3.2.1)");
-  AddModelOptions(compression, &arguments.model, &size, &rotate);
+  AddModelOptions(compression, &arguments.model, &size, &rotate, true);
   compression->add_option("--strain", arguments.strain, "imposed compressive strain")
       ->capture_default_str();
   compression->add_flag("--json", arguments.json, "print one JSON object");
 
   CLI::App* deflection = app.add_subcommand(
       "deflection", "cantilever clamped at x = 0, force F in -z at x = L (thesis 3.2.6)");
-  AddModelOptions(deflection, &arguments.model, &size, &rotate);
+  AddModelOptions(deflection, &arguments.model, &size, &rotate, true);
   deflection->add_option("--force", arguments.force, "total end force F (N)")->required();
   deflection->add_flag("--json", arguments.json, "print one JSON object");
 
+  CLI::App* sweep = app.add_subcommand(
+      "poisson-sweep",
+      "compression at several target nu: measured against theoretical nu(Q) (eMSM figs. 7-8); "
+      "defaults: E 1e5 Pa, cubic 2 x 1 x 1 m at a = 1/12 m, random 3 x 1 x 1 m at l = 0.1 m");
+  AddModelOptions(sweep, &arguments.model, &size, &rotate, false);
+  sweep->add_option("--targets", arguments.targets, "target Poisson's ratios")
+      ->capture_default_str();
+  sweep->add_option("--strain", arguments.strain, "imposed compressive strain")
+      ->capture_default_str();
+  sweep->add_option("--plot", arguments.plot, "write a plot of nu against Q to this PNG file");
+  sweep->add_flag("--json", arguments.json, "print one JSON object");
+
   ParseOutcome outcome;
-  if (argv.size() > 1 && !argv[1].empty() && argv[1][0] != '-' && argv[1] != "compression" &&
-      argv[1] != "deflection") {
-    outcome.message = "unknown command '" + argv[1] + "' (expected compression or deflection)";
+  if (argv.size() > 1 && !argv[1].empty() && argv[1][0] != '-' &&
+      std::find(std::begin(kCommands), std::end(kCommands), argv[1]) == std::end(kCommands)) {
+    outcome.message =
+        "unknown command '" + argv[1] + "' (expected compression, deflection or poisson-sweep)";
     outcome.exit_code = 2;
     return outcome;
   }
@@ -78,7 +107,17 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
     outcome.exit_code = 2;
     return outcome;
   }
-  arguments.command = compression->parsed() ? LabCommand::kCompression : LabCommand::kDeflection;
+  if (compression->parsed()) {
+    arguments.command = LabCommand::kCompression;
+  } else if (deflection->parsed()) {
+    arguments.command = LabCommand::kDeflection;
+  } else {
+    arguments.command = LabCommand::kPoissonSweep;
+    const bool cubic = arguments.model.model == "cubic";
+    if (size.empty()) size = cubic ? std::vector<double>{2, 1, 1} : std::vector<double>{3, 1, 1};
+    if (arguments.model.spacing == 0.0) arguments.model.spacing = cubic ? 1.0 / 12.0 : 0.1;
+    if (arguments.model.youngs == 0.0) arguments.model.youngs = 1e5;
+  }
   arguments.model.size = Eigen::Vector3d(size[0], size[1], size[2]);
   if (!rotate.empty()) {
     arguments.model.rotate = Eigen::Vector4d(rotate[0], rotate[1], rotate[2], rotate[3]);

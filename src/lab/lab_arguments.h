@@ -23,15 +23,19 @@ struct ModelArguments {
   double min_dist = 0.8;                     ///< random only, multiple of l
   double max_dist = 1.9;                     ///< random only, multiple of l
   std::string stiffness = "inverse-square";  ///< random only: uniform | inverse-square
+  std::string spring = "linear";             ///< linear | nonlinear
+  std::string dispersion = "two-pass";       ///< two-pass | one-pass
 };
 
-enum class LabCommand { kCompression, kDeflection };
+enum class LabCommand { kCompression, kDeflection, kPoissonSweep };
 
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
-  double strain = 0.01;  ///< compression only
+  double strain = 0.01;  ///< compression and poisson-sweep
   double force = 0.0;    ///< deflection only, N
+  std::vector<double> targets = {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49};  ///< poisson-sweep
+  std::string plot;  ///< poisson-sweep: PNG to write, empty for none
   bool json = false;
 };
 

@@ -11,8 +11,11 @@
 #include "msm_sim/core/cantilever_test.h"
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
+#include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/model_statistics.h"
 #include "msm_sim/core/random_lattice_builder.h"
+#include "msm_sim/core/spring_law.h"
+#include "sweep_plot.h"
 
 namespace msm_sim::lab {
 namespace {
@@ -38,7 +41,11 @@ Json SolverJson(const core::StaticSolverReport& report) {
 void PrintModelTable(const ModelArguments& arguments, const core::ModelStatistics& stats,
                      std::ostream& out) {
   out << "model            " << arguments.model
-      << (arguments.model == "cubic" ? " (" + arguments.construction + "-centred)" : "") << "\n"
+      << (arguments.model != "cubic"           ? ""
+          : arguments.construction == "corner" ? " (element-corner)"
+                                               : " (node-centred)")
+      << (arguments.poisson != 0.25 ? ", extended MSM" : "") << ", " << arguments.spring
+      << " springs\n"
       << "nodes            " << stats.nodes << "\n"
       << "springs          " << stats.springs << "\n"
       << "<S>              " << stats.mean_springs_per_node << "\n"
@@ -56,14 +63,37 @@ int ReportSolverFailure(const core::StaticSolverReport& report, std::ostream& er
   return 1;
 }
 
+// Static experiments solve for an exact equilibrium, where both ways of staging the dispersion
+// give the same forces; one-pass is a dynamics option (it lags one time step), so say so rather
+// than silently ignore it.
+void CheckStaticDispersion(const std::string& name) {
+  if (name == "two-pass") return;
+  if (name == "one-pass") {
+    throw std::invalid_argument(
+        "--dispersion one-pass lags the dispersion by one time step and only applies to dynamics; "
+        "static experiments use the exact two-pass forces");
+  }
+  throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
+}
+
+struct CompressionRun {
+  core::ModelStatistics stats;
+  core::CompressionTestResult result;
+};
+
+CompressionRun Compress(const ModelArguments& model_arguments, double strain) {
+  CheckStaticDispersion(model_arguments.dispersion);
+  const core::Model model = BuildLabModel(model_arguments);
+  core::CompressionTestOptions options;
+  options.body_size = model_arguments.size;
+  options.strain = strain;
+  return {core::ComputeModelStatistics(model), core::RunCompressionTest(model, options)};
+}
+
 int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
-  const core::Model model = BuildLabModel(arguments.model);
-  const core::ModelStatistics stats = core::ComputeModelStatistics(model);
-  core::CompressionTestOptions options;
-  options.body_size = arguments.model.size;
-  options.strain = arguments.strain;
-  const core::CompressionTestResult result = core::RunCompressionTest(model, options);
+  const CompressionRun run = Compress(arguments.model, arguments.strain);
+  const core::CompressionTestResult& result = run.result;
   if (!result.solver.converged) return ReportSolverFailure(result.solver, err);
   const double seconds = Seconds(start);
   const double youngs = arguments.model.youngs;
@@ -72,6 +102,9 @@ int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostrea
   if (arguments.json) {
     Json json{{"command", "compression"},
               {"model", arguments.model.model},
+              {"spring", arguments.model.spring},
+              {"dispersion", arguments.model.dispersion},
+              {"dispersion_ratio", core::DispersionRatio(arguments.model.poisson)},
               {"youngs_target", youngs},
               {"poisson_target", arguments.model.poisson},
               {"youngs_measured", result.youngs_measured},
@@ -81,14 +114,14 @@ int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostrea
               {"poisson_stress_corrected", result.poisson_stress_corrected},
               {"axial_force", result.axial_force},
               {"strain", arguments.strain}};
-    json.update(ModelJson(stats));
+    json.update(ModelJson(run.stats));
     json["solver"] = SolverJson(result.solver);
     json["seconds"] = seconds;
     out << json.dump() << "\n";
     return 0;
   }
   out << "uniaxial compression along x, strain " << arguments.strain << "\n";
-  PrintModelTable(arguments.model, stats, out);
+  PrintModelTable(arguments.model, run.stats, out);
   out << std::setprecision(5);
   out << "\n                  target        measured      stress-corrected\n"
       << "E [Pa]            " << std::setw(12) << youngs << "  " << std::setw(12)
@@ -101,8 +134,64 @@ int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostrea
   return 0;
 }
 
+int RunPoissonSweep(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
+  const auto start = std::chrono::steady_clock::now();
+  if (arguments.targets.empty()) throw std::invalid_argument("--targets needs at least one value");
+  Json rows = Json::array();
+  for (const double target : arguments.targets) {
+    ModelArguments model = arguments.model;
+    model.poisson = target;
+    const CompressionRun run = Compress(model, arguments.strain);
+    if (!run.result.solver.converged) return ReportSolverFailure(run.result.solver, err);
+    rows.push_back(
+        {{"poisson_target", target},
+         {"dispersion_ratio", core::DispersionRatio(target)},
+         {"poisson_theory", core::PoissonFromDispersionRatio(core::DispersionRatio(target))},
+         {"poisson_measured", run.result.poisson_measured},
+         {"poisson_stress_corrected", run.result.poisson_stress_corrected},
+         {"youngs_measured", run.result.youngs_measured},
+         {"youngs_relative_error", run.result.youngs_measured / model.youngs - 1.0},
+         {"nodes", run.stats.nodes},
+         {"springs", run.stats.springs},
+         {"mean_springs_per_node", run.stats.mean_springs_per_node}});
+  }
+  Json sweep{{"command", "poisson-sweep"},
+             {"model", arguments.model.model},
+             {"spring", arguments.model.spring},
+             {"youngs_target", arguments.model.youngs},
+             {"results", rows},
+             {"seconds", Seconds(start)}};
+  if (!arguments.plot.empty()) {
+    const std::string failure = PlotPoissonSweep(sweep.dump(), arguments.plot);
+    if (!failure.empty()) {
+      err << "msm_lab: error: " << failure << "\n";
+      return 1;
+    }
+  }
+  if (arguments.json) {
+    out << sweep.dump() << "\n";
+    return 0;
+  }
+  out << "Poisson sweep, " << arguments.model.model << " eMSM, E = " << arguments.model.youngs
+      << " Pa, " << rows[0]["nodes"].get<int>() << " nodes\n\n"
+      << "  nu target        Q   nu measured   nu - target   E error [%]\n"
+      << std::fixed;
+  for (const Json& row : rows) {
+    const double target = row["poisson_target"].get<double>();
+    const double measured = row["poisson_measured"].get<double>();
+    out << std::setprecision(3) << std::setw(11) << target << std::setw(9)
+        << row["dispersion_ratio"].get<double>() << std::setprecision(4) << std::setw(14)
+        << measured << std::setw(14) << measured - target << std::setprecision(2) << std::setw(14)
+        << 100.0 * row["youngs_relative_error"].get<double>() << "\n";
+  }
+  if (!arguments.plot.empty()) out << "\nplot: " << arguments.plot << "\n";
+  out << "time: " << std::setprecision(2) << Seconds(start) << " s\n";
+  return 0;
+}
+
 int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
+  CheckStaticDispersion(arguments.model.dispersion);
   const core::Model model = BuildLabModel(arguments.model);
   const core::ModelStatistics stats = core::ComputeModelStatistics(model);
   core::CantileverTestOptions options;
@@ -154,11 +243,10 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
 core::Model BuildLabModel(const ModelArguments& arguments) {
   const core::Material material =
       core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density);
-  if (arguments.poisson != 0.25) {
-    std::ostringstream message;
-    message << "plain spring networks are locked at nu = 0.25 (Cauchy relation, SPEC.md §1); "
-            << "nu = " << arguments.poisson << " needs the extended MSM, which this build lacks";
-    throw std::invalid_argument(message.str());
+  core::SpringLaw law = core::SpringLaw::kLinear;
+  if (!core::ParseSpringLaw(arguments.spring, &law)) {
+    throw std::invalid_argument("unknown spring law '" + arguments.spring +
+                                "' (expected linear or nonlinear)");
   }
   if (arguments.model == "cubic") {
     core::CubicLatticeOptions options;
@@ -167,11 +255,16 @@ core::Model BuildLabModel(const ModelArguments& arguments) {
     options.construction = arguments.construction == "corner"
                                ? core::CubicConstruction::kElementCorner
                                : core::CubicConstruction::kNodeCentred;
+    options.spring_law = law;
     if (arguments.rotate) {
       options.rotation_axis = arguments.rotate->head<3>();
       options.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
     }
     return core::BuildCubicLattice(material, options);
+  }
+  if (arguments.model != "random") {
+    throw std::invalid_argument("unknown model '" + arguments.model +
+                                "' (expected cubic or random)");
   }
   core::RandomLatticeOptions options;
   options.size = arguments.size;
@@ -179,6 +272,7 @@ core::Model BuildLabModel(const ModelArguments& arguments) {
   options.seed = arguments.seed;
   options.min_distance = arguments.min_dist;
   options.max_distance = arguments.max_dist;
+  options.spring_law = law;
   options.stiffness_law = arguments.stiffness == "uniform"
                               ? core::RandomStiffnessLaw::kUniform
                               : core::RandomStiffnessLaw::kInverseSquare;
@@ -186,8 +280,15 @@ core::Model BuildLabModel(const ModelArguments& arguments) {
 }
 
 int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
-  return arguments.command == LabCommand::kCompression ? RunCompression(arguments, out, err)
-                                                       : RunDeflection(arguments, out, err);
+  switch (arguments.command) {
+    case LabCommand::kCompression:
+      return RunCompression(arguments, out, err);
+    case LabCommand::kDeflection:
+      return RunDeflection(arguments, out, err);
+    case LabCommand::kPoissonSweep:
+      return RunPoissonSweep(arguments, out, err);
+  }
+  return 1;
 }
 
 }  // namespace msm_sim::lab

@@ -144,8 +144,20 @@ INSTANTIATE_TEST_SUITE_P(
                  "--poisson 0.25",
                  2, "model"},
         BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
-                 "--poisson 0.4",
-                 2, "extended MSM"},
+                 "--poisson -1",
+                 2, "Poisson"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25 --spring cubic",
+                 2, "spring"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.25 --dispersion three-pass",
+                 2, "dispersion"},
+        BadInput{"poisson-sweep --model cubic --targets 0.2 0.7", 2, "Poisson"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.4 --dispersion one-pass",
+                 2, "only applies to dynamics"},
+        BadInput{"poisson-sweep --model cubic --targets 0.2 --plot /nonexistent/dir/plot.png", 1,
+                 "plotting failed"},
         BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs abc "
                  "--poisson 0.25",
                  2, "youngs"},
@@ -156,6 +168,43 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"compression --model random --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
                  "--poisson 0.25 --min-dist 1.4 --max-dist 2",
                  1, "random sequential addition"}));
+
+TEST(LabCli, AnyPoissonRatioWithEitherSpringLawAndDispersion) {
+  const std::string base =
+      "compression --model cubic --size 1 0.5 0.5 --spacing 0.0625 --youngs 2e5 --poisson 0.45 "
+      "--json";
+  const auto two_pass = nlohmann::json::parse(RunLab(base).out);
+  EXPECT_NEAR(two_pass["poisson_measured"].get<double>(), 0.45, 0.02);
+  EXPECT_NEAR(two_pass["youngs_measured"].get<double>() / 2e5, 1.0, 0.03);
+  EXPECT_NEAR(two_pass["dispersion_ratio"].get<double>(), 4.8, 1e-12);
+  EXPECT_EQ(two_pass["dispersion"], "two-pass");
+  // At 1 % strain the carrier law differs from Hooke's only at second order.
+  const auto nonlinear = nlohmann::json::parse(RunLab(base + " --spring nonlinear").out);
+  EXPECT_NEAR(
+      nonlinear["youngs_measured"].get<double>() / two_pass["youngs_measured"].get<double>(), 1.0,
+      0.02);
+  EXPECT_EQ(nonlinear["spring"], "nonlinear");
+}
+
+TEST(LabCli, PoissonSweepReportsEveryTargetAndPlots) {
+  const std::string png = ::testing::TempDir() + "msm_lab_sweep.png";
+  std::remove(png.c_str());
+  const LabRun run = RunLab(
+      "poisson-sweep --model cubic --size 1 0.5 0.5 --spacing 0.0625 --targets -0.5 0.25 0.45 "
+      "--json --plot " +
+      png);
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  ASSERT_EQ(json["results"].size(), 3u);
+  for (const auto& row : json["results"]) {
+    EXPECT_NEAR(row["poisson_measured"].get<double>(), row["poisson_target"].get<double>(), 0.02);
+    EXPECT_NEAR(row["poisson_theory"].get<double>(), row["poisson_target"].get<double>(), 1e-12);
+  }
+  std::ifstream image(png, std::ios::binary);
+  char magic[4] = {};
+  image.read(magic, 4);
+  EXPECT_EQ(std::string(magic + 1, 3), "PNG");
+}
 
 TEST(LabCli, HelpExitsZero) {
   const LabRun run = RunLab("--help");

@@ -48,7 +48,7 @@ struct CubicLatticeOptions {
 /// this restores exactly the bulk stiffness tensor per node (and thus E and nu of a homogeneously
 /// strained block), without adding nodes or springs. A node missing both i + d and i - d (a layer
 /// one cell thick) cannot be compensated along d. The eMSM dispersion sees the same picture: the
-/// spring (i, i - d) counts twice in node i's star (Model::outflow_weight_a), so a surface node
+/// spring (i, i - d) counts twice in node i's star (Model::dispersion_weight_a), so a surface node
 /// disperses like a bulk node under a homogeneous strain.
 ///
 /// Throws std::invalid_argument on non-positive or non-finite sizes or spacing, a spacing larger

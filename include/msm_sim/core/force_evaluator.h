@@ -17,9 +17,10 @@ enum class DispersionPasses {
 
 /// Internal forces of a Model: spring tensions under the model's spring law plus, for an eMSM,
 /// the dispersed tensions t*_n = (J_a / b_a + J_b / b_b) / L0_n with J_x = q sum L0_i t_i over the
-/// springs at node x (SPEC.md §3). With the model's dispersion weights (Model::outflow_weight_a
-/// and inflow_weight_a) a node accumulates J = q sum v L0 t, spring n receives w_n J / W with
-/// W = sum w in place of J / b; all weights 1 is the paper's algorithm.
+/// springs at node x (SPEC.md §3). With the model's dispersion weights v (Model::
+/// dispersion_weight_a) a node accumulates J = q sum v L0 t and spring n receives w_n J / W with
+/// w = v k L0^2 and W = sum w, which makes the dispersion conservative; equal v and equal k L0^2
+/// is the paper's algorithm.
 ///
 /// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
 /// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
@@ -31,10 +32,12 @@ class ForceEvaluator {
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
 
-  /// Elastic energy of the direct springs at `positions` (J). The dispersion has no potential in
-  /// general (it has one when all k L0^2 are equal), so its work is not included. Kept out of
-  /// AccumulateForces because the non-linear law's logarithm would double the cost of a step.
-  double DirectSpringEnergy(const Eigen::Matrix3Xd& positions) const;
+  /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
+  /// Phi = sum_x J_x^2 / (2 q W_x). Phi is exact for linear springs; with the carrier law the
+  /// dispersion follows the small-strain stiffness, so Phi is its potential to second order in
+  /// the strain. Kept out of AccumulateForces because the carrier law's logarithm would double
+  /// the cost of a step.
+  double ElasticEnergy(const Eigen::Matrix3Xd& positions) const;
 
   /// Direct plus dispersed tension of every spring at the last AccumulateForces (N, > 0
   /// stretched): what measurements such as momentum flow and Hardy stress must sum.
@@ -47,9 +50,13 @@ class ForceEvaluator {
   void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The diagonal of K (3 x N) at the last Linearize, exact.
   Eigen::Matrix3Xd StiffnessDiagonal() const;
-  bool stiffness_is_symmetric() const { return model_.dispersion_fraction() == 0.0; }
+  /// K is symmetric without dispersion, and with it for linear springs (the dispersion then has
+  /// a potential); with carrier springs the inflow follows the tangent k' and the outflow k.
+  bool stiffness_is_symmetric() const {
+    return model_->dispersion_fraction() == 0.0 || model_->spring_law() == SpringLaw::kLinear;
+  }
 
-  const Model& model() const { return model_; }
+  const Model& model() const { return *model_; }
 
  private:
   template <SpringLaw Law>
@@ -64,10 +71,10 @@ class ForceEvaluator {
   template <SpringLaw Law>
   void LinearizeImpl(const Eigen::Matrix3Xd& positions);
 
-  const Model& model_;
+  const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
   DispersionPasses passes_;
-  // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 at each end, so that
-  // t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
+  // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 = v k L0 at each end,
+  // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
   Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
   Eigen::VectorXd inverse_star_weight_;    // 1 / W per node
   Eigen::VectorXd tensions_;               // direct tensions (two-pass)

@@ -40,15 +40,16 @@ class Model {
   const std::vector<double>& spring_rest_length() const { return spring_rest_length_; }
   /// Linear stiffnesses (N/m).
   const std::vector<double>& spring_stiffness() const { return spring_stiffness_; }
-  /// eMSM dispersion weights of each spring at its end node a (resp. b), SPEC.md §3 generalised:
-  /// node x accumulates J_x = q sum_n v_n L0_n t_n (inflow weights v) and spring n receives
-  /// w_n J_x / W_x of it (outflow weights w, W_x = sum w over x's springs). All 1 is the eMSM
-  /// paper's algorithm. Builders change them where a node's star would otherwise disperse
-  /// anisotropically (surface nodes of a cubic lattice, random stars).
-  const std::vector<double>& outflow_weight_a() const { return outflow_weight_a_; }
-  const std::vector<double>& outflow_weight_b() const { return outflow_weight_b_; }
-  const std::vector<double>& inflow_weight_a() const { return inflow_weight_a_; }
-  const std::vector<double>& inflow_weight_b() const { return inflow_weight_b_; }
+  /// eMSM dispersion weight v of each spring at its end node a (resp. b), SPEC.md §3 generalised:
+  /// node x accumulates J_x = q sum_n v_n L0_n t_n and spring n receives w_n J_x / W_x of it,
+  /// with w_n = v_n k_n L0_n^2 and W_x = sum of w over x's springs. That choice makes the
+  /// dispersion the gradient of Phi = sum_x J_x^2 / (2 q W_x), so the stiffness stays symmetric
+  /// (the paper's equal shares are not when k L0^2 differs between springs, as between the A and
+  /// B springs of a cubic lattice, and the undamped dynamics then flutters). All v = 1 with equal
+  /// k L0^2 is the paper's algorithm. Builders change v where a node's star would otherwise
+  /// disperse anisotropically (surface nodes of a cubic lattice, random stars).
+  const std::vector<double>& dispersion_weight_a() const { return dispersion_weight_a_; }
+  const std::vector<double>& dispersion_weight_b() const { return dispersion_weight_b_; }
 
   /// Compressed adjacency: springs incident to node i are
   /// incident_springs()[incidence_offsets()[i] .. incidence_offsets()[i + 1]).
@@ -81,10 +82,8 @@ class Model {
   std::vector<NodeIndex> spring_node_b_;
   std::vector<double> spring_rest_length_;
   std::vector<double> spring_stiffness_;
-  std::vector<double> outflow_weight_a_;
-  std::vector<double> outflow_weight_b_;
-  std::vector<double> inflow_weight_a_;
-  std::vector<double> inflow_weight_b_;
+  std::vector<double> dispersion_weight_a_;
+  std::vector<double> dispersion_weight_b_;
   std::vector<std::int32_t> incidence_offsets_;
   std::vector<SpringIndex> incident_springs_;
   Material material_;

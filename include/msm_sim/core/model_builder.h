@@ -23,12 +23,9 @@ class ModelBuilder {
   SpringIndex AddSpring(NodeIndex a, NodeIndex b, double stiffness);
   /// Adds `extra` (N/m) to an existing spring's stiffness.
   void AddStiffness(SpringIndex spring, double extra);
-  /// Sets the eMSM dispersion weights of `spring` at its end `node` (both start at 1; see
-  /// Model::outflow_weight_a). Precondition: node is one of the spring's ends; weights >= 0.
-  void SetDispersionWeights(SpringIndex spring, NodeIndex node, double outflow, double inflow);
-  double outflow_weight(SpringIndex spring, NodeIndex node) const {
-    return node_a_[spring] == node ? outflow_a_[spring] : outflow_b_[spring];
-  }
+  /// Sets the eMSM dispersion weight of `spring` at its end `node` (starts at 1; see
+  /// Model::dispersion_weight_a). Precondition: node is one of the spring's ends; weight > 0.
+  void SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight);
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
   double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
@@ -55,10 +52,8 @@ class ModelBuilder {
   std::vector<NodeIndex> node_b_;
   std::vector<double> rest_length_;
   std::vector<double> stiffness_;
-  std::vector<double> outflow_a_;
-  std::vector<double> outflow_b_;
-  std::vector<double> inflow_a_;
-  std::vector<double> inflow_b_;
+  std::vector<double> weight_a_;
+  std::vector<double> weight_b_;
 };
 
 }  // namespace msm_sim::core

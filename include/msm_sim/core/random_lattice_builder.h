@@ -27,7 +27,7 @@ struct RandomLatticeOptions {
   RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
   SpringLaw spring_law = SpringLaw::kLinear;
   /// eMSM with nu > 1/4: weight each node's springs so that it disperses an isotropic pressure
-  /// (see SetIsotropicOutflowWeights in the source). Off gives the eMSM paper's equal shares.
+  /// (see SetIsotropicDispersionWeights in the source). Off gives the eMSM paper's equal shares.
   bool isotropic_dispersion = true;
   /// Random sequential addition gives up after this many draws per requested node.
   int max_draws_per_node = 1000;

@@ -1,0 +1,11 @@
+#pragma once
+
+#include <string>
+
+namespace msm_sim::lab {
+
+/// Writes a PNG plot of a poisson-sweep (its JSON text) with Debian's python3 and matplotlib.
+/// Returns an empty string on success, otherwise a one-line reason.
+std::string PlotPoissonSweep(const std::string& sweep_json, const std::string& png_path);
+
+}  // namespace msm_sim::lab
