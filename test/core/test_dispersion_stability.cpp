@@ -102,11 +102,13 @@ TEST(DispersionStability, TwoPassConservesEnergyWithLeapfrog) {
     const double initial = energy();
     double worst = 0.0;
     for (int step = 0; step < 3000; ++step) {
-      for (int n = 0; n < model.num_nodes(); ++n) v.col(n) += 0.5 * dt * f.col(n) / model.masses()[n];
+      for (int n = 0; n < model.num_nodes(); ++n)
+        v.col(n) += 0.5 * dt * f.col(n) / model.masses()[n];
       x += dt * v;
       f.setZero();
       evaluator.AccumulateForces(x, &f);
-      for (int n = 0; n < model.num_nodes(); ++n) v.col(n) += 0.5 * dt * f.col(n) / model.masses()[n];
+      for (int n = 0; n < model.num_nodes(); ++n)
+        v.col(n) += 0.5 * dt * f.col(n) / model.masses()[n];
       worst = std::max(worst, std::abs(energy() / initial - 1.0));
     }
     EXPECT_LT(worst, 0.02) << nu;

@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
@@ -8,6 +9,7 @@
 #include "msm_sim/core/hardy_stress.h"
 #include "msm_sim/core/momentum_flow.h"
 #include "msm_sim/core/strain_probe.h"
+#include "msm_sim/core/tetrahedralization.h"
 
 namespace msm_sim::core {
 namespace {
@@ -117,6 +119,36 @@ TEST(CompressionTest, RejectsImpossibleSetUps) {
   EXPECT_THROW(RunCompressionTest(model, test), std::invalid_argument);
   test.strain = 0.01;  // end regions of 1.5 x sqrt(2) a on a 4-layer block leave nothing free
   EXPECT_THROW(RunCompressionTest(model, test), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace msm_sim::core
+
+namespace msm_sim::core {
+namespace {
+
+TEST(Tetrahedralization, FillsTheHullWithPositiveTetrahedraAndDetectsInversion) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(0.4, 0.3, 0.3);
+  options.spacing = 0.1;
+  const Model model = BuildCubicLattice(kMaterial, options);
+  const std::vector<Tetrahedron> tetrahedra = DelaunayTetrahedra(model.rest_positions());
+  double volume = 0.0;
+  for (const Tetrahedron& t : tetrahedra) {
+    EXPECT_GT(SignedVolume(t, model.rest_positions()), 0.0);
+    volume += SignedVolume(t, model.rest_positions());
+  }
+  // Node-centred nodes span (4 - 1) x (3 - 1) x (3 - 1) cells of 0.1 m.
+  EXPECT_NEAR(volume, 0.3 * 0.2 * 0.2, 1e-12);
+  EXPECT_EQ(CountInvertedTetrahedra(tetrahedra, model.rest_positions()), 0);
+  // A mirror image inverts every tetrahedron; a rotation inverts none.
+  Eigen::Matrix3Xd mirrored = model.rest_positions();
+  mirrored.row(0) *= -1.0;
+  EXPECT_EQ(CountInvertedTetrahedra(tetrahedra, mirrored), static_cast<int>(tetrahedra.size()));
+  const Eigen::Matrix3Xd rotated =
+      Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix() *
+      model.rest_positions();
+  EXPECT_EQ(CountInvertedTetrahedra(tetrahedra, rotated), 0);
 }
 
 }  // namespace
