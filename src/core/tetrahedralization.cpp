@@ -39,7 +39,8 @@ std::vector<Tetrahedron> DelaunayTetrahedra(const Eigen::Matrix3Xd& points) {
 
 double SignedVolume(const Tetrahedron& t, const Eigen::Matrix3Xd& positions) {
   const Eigen::Vector3d p0 = positions.col(t[0]);
-  return (positions.col(t[1]) - p0).dot((positions.col(t[2]) - p0).cross(positions.col(t[3]) - p0)) /
+  return (positions.col(t[1]) - p0)
+             .dot((positions.col(t[2]) - p0).cross(positions.col(t[3]) - p0)) /
          6.0;
 }
 
