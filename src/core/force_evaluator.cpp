@@ -160,11 +160,37 @@ void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix
   }
 }
 
+void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& edges = model_->correction_edges();
+  const auto& coefficient = model_->correction_coefficients();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double r[12][3];
+    double length[12];
+    double elongation[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      length[i] = Separation(positions.data(), a[s], b[s], r[i]);
+      elongation[i / 4] += length[i] - rest[s];
+    }
+    const double sum = elongation[0] + elongation[1] + elongation[2];
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      const double tension = coefficient[e] * (sum - elongation[i / 4]);
+      total_tensions_[s] += tension;
+      ApplyPair(forces->data(), a[s], b[s], tension / length[i], r[i]);
+    }
+  }
+}
+
 void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
   const bool linear = model_->spring_law() == SpringLaw::kLinear;
   if (model_->dispersion_fraction() == 0.0) {
     linear ? PlainPass<SpringLaw::kLinear>(positions, forces)
            : PlainPass<SpringLaw::kNonlinear>(positions, forces);
+    if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
     return;
   }
   if (passes_ == DispersionPasses::kOnePass && has_previous_dispersion_) {
@@ -180,6 +206,7 @@ void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::
     OutflowPass(positions, forces);
   }
   has_previous_dispersion_ = true;
+  if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
 }
 
 template <SpringLaw Law>
@@ -203,6 +230,17 @@ double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
   // Phi = sum J^2 / (2 q W); inverse_star_weight_ holds 1 / W.
   if (q != 0.0) {
     energy += 0.5 / q * accumulator.cwiseAbs2().dot(inverse_star_weight_);
+  }
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double elongation[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      elongation[i / 4] += (positions.col(b[s]) - positions.col(a[s])).norm() - rest[s];
+    }
+    energy += model_->correction_coefficients()[e] *
+              (elongation[0] * elongation[1] + elongation[1] * elongation[2] +
+               elongation[2] * elongation[0]);
   }
   return energy;
 }
@@ -265,6 +303,7 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
       accumulator_change[b[s]] += inflow_b_[s] * dt;
     }
   }
+  ApplyCorrectionStiffness(v, out);
   if (!disperse) return;
   const Eigen::VectorXd dg = accumulator_change.cwiseProduct(inverse_star_weight_);
   for (int s = 0; s < model_->num_springs(); ++s) {
@@ -272,6 +311,31 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
     const Eigen::Vector3d df = dt_dispersed * directions_.col(s);
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
+  }
+}
+
+void ForceEvaluator::ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v,
+                                              Eigen::Matrix3Xd* out) const {
+  // The correction tensions' change: d tension_j = c sum_{i != j} dS_i, dS_i = sum u . dv over the
+  // edges along i, applied along each edge (their own direction change is in the geometric term
+  // of ApplyStiffness, since total_tensions_ includes them).
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double rate[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      rate[i / 4] += directions_.col(s).dot(v.col(b[s]) - v.col(a[s]));
+    }
+    const double sum = rate[0] + rate[1] + rate[2];
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      const Eigen::Vector3d df =
+          model_->correction_coefficients()[e] * (sum - rate[i / 4]) * directions_.col(s);
+      out->col(a[s]) -= df;
+      out->col(b[s]) += df;
+    }
   }
 }
 
@@ -306,6 +370,25 @@ Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
   if (disperse) {
     for (int i = 0; i < n; ++i) {
       diagonal.col(i) += inverse_star_weight_[i] * s1.col(i).cwiseProduct(s2.col(i));
+    }
+  }
+  // Correction: at a node, an edge along one axis responds to the elongation of the element's
+  // edges along the other axes through the same node: c sum w_f w_e over such pairs (f, e), with
+  // w pointing away from the node.
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    for (int f = 0; f < 12; ++f) {
+      for (int g = 0; g < 12; ++g) {
+        if (f / 4 == g / 4) continue;
+        const SpringIndex sf = edges[e][f];
+        const SpringIndex sg = edges[e][g];
+        for (const NodeIndex node : {a[sf], b[sf]}) {
+          if (node != a[sg] && node != b[sg]) continue;
+          const Eigen::Vector3d wf = (node == a[sf] ? 1.0 : -1.0) * directions_.col(sf);
+          const Eigen::Vector3d wg = (node == a[sg] ? 1.0 : -1.0) * directions_.col(sg);
+          diagonal.col(node) += model_->correction_coefficients()[e] * wf.cwiseProduct(wg);
+        }
+      }
     }
   }
   return diagonal;

@@ -13,9 +13,9 @@ constexpr double kMaxIndexCells = 4e8;
 }  // namespace
 
 const std::array<Eigen::Vector3i, kNumHalfOffsets> kHalfOffsets = {
-    Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(0, 1, 0), Eigen::Vector3i(0, 0, 1),
+    Eigen::Vector3i(1, 0, 0),  Eigen::Vector3i(0, 1, 0),  Eigen::Vector3i(0, 0, 1),
     Eigen::Vector3i(1, 1, 0),  Eigen::Vector3i(1, -1, 0), Eigen::Vector3i(1, 0, 1),
-    Eigen::Vector3i(1, 0, -1), Eigen::Vector3i(0, 1, 1), Eigen::Vector3i(0, 1, -1)};
+    Eigen::Vector3i(1, 0, -1), Eigen::Vector3i(0, 1, 1),  Eigen::Vector3i(0, 1, -1)};
 
 void Validate(const BoxLattice& box) {
   if (!box.size.allFinite() || (box.size.array() <= 0.0).any()) {
@@ -79,10 +79,10 @@ void LatticeFrame::CoveringRange(const Eigen::Vector3d& size, Eigen::Vector3i* l
 
 LatticeFrame CellFrame(const BoxLattice& box) {
   LatticeFrame frame;
-  frame.rotation =
-      box.rotation_angle == 0.0
-          ? Eigen::Matrix3d::Identity()
-          : Eigen::AngleAxisd(box.rotation_angle, box.rotation_axis.normalized()).toRotationMatrix();
+  frame.rotation = box.rotation_angle == 0.0
+                       ? Eigen::Matrix3d::Identity()
+                       : Eigen::AngleAxisd(box.rotation_angle, box.rotation_axis.normalized())
+                             .toRotationMatrix();
   frame.centre = 0.5 * box.size;
   frame.unit = box.spacing;
   // Centre the unrotated lattice in the box: with an even number of cells along an axis the

@@ -59,6 +59,8 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
   model.spring_stiffness_ = stiffness_;
   model.dispersion_weight_a_ = weight_a_;
   model.dispersion_weight_b_ = weight_b_;
+  model.correction_edges_ = correction_edges_;
+  model.correction_coefficients_ = correction_coefficients_;
 
   // Compressed incidence lists (counting sort by node).
   model.incidence_offsets_.assign(n + 1, 0);

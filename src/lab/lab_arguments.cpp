@@ -10,9 +10,11 @@ constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep
 // Options describing the model. `required` is false for poisson-sweep, which has defaults.
 void AddModelOptions(CLI::App* command, ModelArguments* model, std::vector<double>* size,
                      std::vector<double>* rotate, bool required) {
-  command->add_option("--model", model->model, "cubic | random")
+  command
+      ->add_option("--model", model->model,
+                   "cubic | random | baudet (eMSM lattices, or Baudet's bricks with correction)")
       ->required()
-      ->check(CLI::IsMember({"cubic", "random"}));
+      ->check(CLI::IsMember({"cubic", "random", "baudet"}));
   auto* size_option = command->add_option("--size", *size, "body size LX LY LZ (m)")->expected(3);
   auto* spacing_option =
       command->add_option("--spacing", model->spacing,
@@ -113,7 +115,7 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
     arguments.command = LabCommand::kDeflection;
   } else {
     arguments.command = LabCommand::kPoissonSweep;
-    const bool cubic = arguments.model.model == "cubic";
+    const bool cubic = arguments.model.model != "random";
     if (size.empty()) size = cubic ? std::vector<double>{2, 1, 1} : std::vector<double>{3, 1, 1};
     if (arguments.model.spacing == 0.0) arguments.model.spacing = cubic ? 1.0 / 12.0 : 0.1;
     if (arguments.model.youngs == 0.0) arguments.model.youngs = 1e5;

@@ -11,7 +11,7 @@ namespace msm_sim::lab {
 
 /// Which model the lab builds, as given on the command line (SI units).
 struct ModelArguments {
-  std::string model = "cubic";  ///< cubic | random
+  std::string model = "cubic";  ///< cubic | random | baudet
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
   double spacing = 0.0;
   double youngs = 0.0;

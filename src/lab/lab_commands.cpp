@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "msm_sim/core/baudet_lattice_builder.h"
 #include "msm_sim/core/cantilever_test.h"
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
@@ -44,8 +45,8 @@ void PrintModelTable(const ModelArguments& arguments, const core::ModelStatistic
       << (arguments.model != "cubic"           ? ""
           : arguments.construction == "corner" ? " (element-corner)"
                                                : " (node-centred)")
-      << (arguments.poisson != 0.25 ? ", extended MSM" : "") << ", " << arguments.spring
-      << " springs\n"
+      << (arguments.poisson != 0.25 && arguments.model != "baudet" ? ", extended MSM" : "") << ", "
+      << arguments.spring << " springs\n"
       << "nodes            " << stats.nodes << "\n"
       << "springs          " << stats.springs << "\n"
       << "<S>              " << stats.mean_springs_per_node << "\n"
@@ -262,9 +263,20 @@ core::Model BuildLabModel(const ModelArguments& arguments) {
     }
     return core::BuildCubicLattice(material, options);
   }
+  if (arguments.model == "baudet") {
+    core::BaudetLatticeOptions options;
+    options.size = arguments.size;
+    options.spacing = arguments.spacing;
+    options.spring_law = law;
+    if (arguments.rotate) {
+      options.rotation_axis = arguments.rotate->head<3>();
+      options.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
+    }
+    return core::BuildBaudetLattice(material, options);
+  }
   if (arguments.model != "random") {
     throw std::invalid_argument("unknown model '" + arguments.model +
-                                "' (expected cubic or random)");
+                                "' (expected cubic, random or baudet)");
   }
   core::RandomLatticeOptions options;
   options.size = arguments.size;

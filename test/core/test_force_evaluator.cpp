@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "msm_sim/core/baudet_lattice_builder.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
 #include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/force_evaluator.h"
@@ -142,6 +143,35 @@ TEST_P(ForceEvaluatorLaws, StiffnessIsExactWithNonUnitDispersionWeights) {
       ASSERT_LT((column - analytic).norm(), 1e-5 * (1.0 + analytic.norm())) << dof;
       ASSERT_NEAR(diagonal.data()[dof], analytic.data()[dof], 1e-6 * (1.0 + analytic.norm()));
     }
+  }
+}
+
+TEST_P(ForceEvaluatorLaws, BaudetCorrectionIsExactlyLinearisedAndConservative) {
+  BaudetLatticeOptions options;
+  options.size = Eigen::Vector3d(0.3, 0.2, 0.2);
+  options.spacing = 0.1;
+  options.spring_law = GetParam();
+  const Model model = BuildBaudetLattice(Material::FromYoungsPoisson(1e4, 0.4, 1000.0), options);
+  ASSERT_EQ(model.correction_edges().size(), 12u);
+  const Eigen::Matrix3Xd x = Perturbed(model, 0.004, 11);
+  ForceEvaluator evaluator(model);
+  evaluator.Linearize(x);
+  const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
+  const Eigen::Matrix3Xd f = Forces(model, x);
+  const double h = 1e-7;
+  for (int dof = 0; dof < 3 * model.num_nodes(); dof += 5) {
+    Eigen::Matrix3Xd xp = x, xm = x;
+    xp.data()[dof] += h;
+    xm.data()[dof] -= h;
+    double ep = 0.0, em = 0.0;
+    const Eigen::Matrix3Xd column = -(Forces(model, xp, &ep) - Forces(model, xm, &em)) / (2 * h);
+    EXPECT_NEAR(-(ep - em) / (2 * h), f.data()[dof], 1e-5 * (1.0 + std::abs(f.data()[dof])));
+    Eigen::Matrix3Xd unit = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+    unit.data()[dof] = 1.0;
+    Eigen::Matrix3Xd analytic;
+    evaluator.ApplyStiffness(unit, &analytic);
+    ASSERT_LT((column - analytic).norm(), 1e-5 * (1.0 + analytic.norm())) << dof;
+    ASSERT_NEAR(diagonal.data()[dof], analytic.data()[dof], 1e-6 * (1.0 + analytic.norm()));
   }
 }
 

@@ -186,6 +186,17 @@ TEST(LabCli, AnyPoissonRatioWithEitherSpringLawAndDispersion) {
   EXPECT_EQ(nonlinear["spring"], "nonlinear");
 }
 
+TEST(LabCli, BaudetModelForAnyPoissonRatio) {
+  const LabRun run = RunLab(
+      "compression --model baudet --size 1 0.5 0.5 --spacing 0.0625 --youngs 2e5 --poisson 0.4 "
+      "--json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_NEAR(json["poisson_measured"].get<double>(), 0.4, 0.02);
+  EXPECT_NEAR(json["youngs_measured"].get<double>() / 2e5, 1.0, 0.05);
+  EXPECT_EQ(json["nodes"], 17 * 9 * 9);
+}
+
 TEST(LabCli, PoissonSweepReportsEveryTargetAndPlots) {
   const std::string png = ::testing::TempDir() + "msm_lab_sweep.png";
   std::remove(png.c_str());

@@ -20,7 +20,8 @@ enum class DispersionPasses {
 /// springs at node x (SPEC.md §3). With the model's dispersion weights v (Model::
 /// dispersion_weight_a) a node accumulates J = q sum v L0 t and spring n receives w_n J / W with
 /// w = v k L0^2 and W = sum w, which makes the dispersion conservative; equal v and equal k L0^2
-/// is the paper's algorithm.
+/// is the paper's algorithm. Baudet correction elements (Model::correction_edges) add their
+/// coupled edge tensions after the springs.
 ///
 /// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
 /// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
@@ -66,6 +67,8 @@ class ForceEvaluator {
   void OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   template <SpringLaw Law>
   void LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   template <SpringLaw Law>
   double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
   template <SpringLaw Law>

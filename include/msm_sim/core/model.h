@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -64,6 +65,16 @@ class Model {
   /// eMSM dispersion fraction q (SPEC.md §3); 0 for a plain MSM (nu = 1/4).
   double dispersion_fraction() const { return dispersion_fraction_; }
 
+  /// Baudet et al.'s orthogonal correction (docs/baudet_derivation.md). Each correction element
+  /// lists the springs of its 4 x-, 4 y- and 4 z-edges (in that order) and a coefficient c: with
+  /// S_i the summed elongation of its edges along axis i it stores the energy
+  /// c (S_x S_y + S_y S_z + S_z S_x), i.e. every edge along axis j carries the extra tension
+  /// c sum_{i != j} S_i. Empty for the other models.
+  const std::vector<std::array<SpringIndex, 12>>& correction_edges() const {
+    return correction_edges_;
+  }
+  const std::vector<double>& correction_coefficients() const { return correction_coefficients_; }
+
   /// The material the springs were calibrated for.
   const Material& material() const { return material_; }
   /// Volume of the body the model represents (m^3); used by calibration and measurements.
@@ -84,6 +95,8 @@ class Model {
   std::vector<double> spring_stiffness_;
   std::vector<double> dispersion_weight_a_;
   std::vector<double> dispersion_weight_b_;
+  std::vector<std::array<SpringIndex, 12>> correction_edges_;
+  std::vector<double> correction_coefficients_;
   std::vector<std::int32_t> incidence_offsets_;
   std::vector<SpringIndex> incident_springs_;
   Material material_;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include <Eigen/Core>
@@ -29,6 +30,12 @@ class ModelBuilder {
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
   double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
+  /// Adds a Baudet correction element (see Model::correction_edges): 4 x-, 4 y- and 4 z-edge
+  /// springs and the coefficient c (N/m). Precondition: the springs exist.
+  void AddCorrectionElement(const std::array<SpringIndex, 12>& edges, double coefficient) {
+    correction_edges_.push_back(edges);
+    correction_coefficients_.push_back(coefficient);
+  }
   void SetSpringLaw(SpringLaw law) { spring_law_ = law; }
   /// eMSM dispersion fraction q; precondition: q > -1/2 (Q > -1).
   void SetDispersionFraction(double q) { dispersion_fraction_ = q; }
@@ -54,6 +61,8 @@ class ModelBuilder {
   std::vector<double> stiffness_;
   std::vector<double> weight_a_;
   std::vector<double> weight_b_;
+  std::vector<std::array<SpringIndex, 12>> correction_edges_;
+  std::vector<double> correction_coefficients_;
 };
 
 }  // namespace msm_sim::core
