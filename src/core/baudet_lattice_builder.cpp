@@ -16,8 +16,8 @@ BaudetStiffness ComputeBaudetStiffness(const Material& material, double spacing)
 
 Model BuildBaudetLattice(const Material& material, const BaudetLatticeOptions& options) {
   using namespace lattice;
-  const BoxLattice box{options.size, options.spacing, options.rotation_axis,
-                       options.rotation_angle, options.max_nodes};
+  const BoxLattice box{options.size, options.spacing, options.rotation_axis, options.rotation_angle,
+                       options.max_nodes};
   Validate(box);
   const ElementGrid grid = MakeElementGrid(box);
   const double a = options.spacing;
@@ -28,7 +28,8 @@ Model BuildBaudetLattice(const Material& material, const BaudetLatticeOptions& o
   builder.SetSpringLaw(options.spring_law);
   std::vector<double> mass(n, 0.0);
   for (const Eigen::Vector3i& e : grid.elements) {
-    for (int delta = 0; delta < 8; ++delta) mass[grid.Corner(e, delta)] += material.density() * a * a * a / 8.0;
+    for (int delta = 0; delta < 8; ++delta)
+      mass[grid.Corner(e, delta)] += material.density() * a * a * a / 8.0;
   }
   for (int node = 0; node < n; ++node) {
     builder.AddNode(grid.corner_frame.Position(grid.corners[node]), mass[node]);
@@ -50,7 +51,8 @@ Model BuildBaudetLattice(const Material& material, const BaudetLatticeOptions& o
   };
   for (const Eigen::Vector3i& e : grid.elements) {
     for (int axis = 0; axis < 3; ++axis) {
-      for (int start : edge_starts(axis)) edge_stiffness[edge_key(e, start, axis)] += stiffness.edge;
+      for (int start : edge_starts(axis))
+        edge_stiffness[edge_key(e, start, axis)] += stiffness.edge;
     }
   }
   std::vector<SpringIndex> edge_spring(3 * static_cast<std::size_t>(n), -1);
