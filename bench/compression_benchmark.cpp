@@ -48,6 +48,21 @@ void BM_CompressionRandom16k(benchmark::State& state) {
 }
 BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 
+// Times AccumulateForces on the model compressed uniformly by 1 %.
+void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state) {
+  ForceEvaluator evaluator(model, passes);
+  const Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
+  Eigen::Matrix3Xd forces(3, model.num_nodes());
+  for (auto _ : state) {
+    forces.setZero();
+    evaluator.AccumulateForces(positions, &forces);
+    benchmark::DoNotOptimize(forces.data());
+    benchmark::ClobberMemory();
+  }
+  state.counters["nodes"] = model.num_nodes();
+  state.counters["springs"] = model.num_springs();
+}
+
 // One force evaluation on a node-centred cubic block 2 x 1 x 1 m at a = 1/18 m (11,664 nodes,
 // 96,579 springs): plain MSM (nu = 1/4) against the eMSM (nu = 0.45) with two-pass and one-pass
 // dispersion, and the non-linear spring law. Issue target: eMSM <= 1.6 x plain.
@@ -58,17 +73,7 @@ void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPa
   lattice.spacing = 1.0 / 18.0;
   lattice.spring_law = law;
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice);
-  ForceEvaluator evaluator(model, passes);
-  Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
-  Eigen::Matrix3Xd forces(3, model.num_nodes());
-  for (auto _ : state) {
-    forces.setZero();
-    evaluator.AccumulateForces(positions, &forces);
-    benchmark::DoNotOptimize(forces.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["nodes"] = model.num_nodes();
-  state.counters["springs"] = model.num_springs();
+  TimeForceEvaluations(model, passes, state);
 }
 BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain, 0.25, DispersionPasses::kTwoPass,
                   SpringLaw::kLinear)
@@ -90,17 +95,7 @@ void BM_ForceEvaluationBaudet12k(benchmark::State& state) {
   lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
   lattice.spacing = 1.0 / 18.0;
   const Model model = BuildBaudetLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice);
-  ForceEvaluator evaluator(model);
-  Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
-  Eigen::Matrix3Xd forces(3, model.num_nodes());
-  for (auto _ : state) {
-    forces.setZero();
-    evaluator.AccumulateForces(positions, &forces);
-    benchmark::DoNotOptimize(forces.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["nodes"] = model.num_nodes();
-  state.counters["springs"] = model.num_springs();
+  TimeForceEvaluations(model, DispersionPasses::kTwoPass, state);
 }
 BENCHMARK(BM_ForceEvaluationBaudet12k)->Unit(benchmark::kMicrosecond);
 
@@ -111,17 +106,7 @@ void BM_ForceEvaluationRandom12k(benchmark::State& state) {
   lattice.spacing = 0.1;
   lattice.max_distance = 1.9;
   const Model model = BuildRandomLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice);
-  ForceEvaluator evaluator(model);
-  Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
-  Eigen::Matrix3Xd forces(3, model.num_nodes());
-  for (auto _ : state) {
-    forces.setZero();
-    evaluator.AccumulateForces(positions, &forces);
-    benchmark::DoNotOptimize(forces.data());
-    benchmark::ClobberMemory();
-  }
-  state.counters["nodes"] = model.num_nodes();
-  state.counters["springs"] = model.num_springs();
+  TimeForceEvaluations(model, DispersionPasses::kTwoPass, state);
 }
 BENCHMARK(BM_ForceEvaluationRandom12k)->Unit(benchmark::kMicrosecond);
 

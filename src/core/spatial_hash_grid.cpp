@@ -26,20 +26,7 @@ void SpatialHashGrid::Insert(int index, const Eigen::Vector3d& point) {
 }
 
 bool SpatialHashGrid::AnyWithin(const Eigen::Vector3d& query, double radius) const {
-  const Eigen::Vector3i centre = CellOf(query);
-  const double radius_sq = radius * radius;
-  for (int dx = -1; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
-        const auto it = cells_.find(Key(centre + Eigen::Vector3i(dx, dy, dz)));
-        if (it == cells_.end()) continue;
-        for (const Entry& entry : it->second) {
-          if ((entry.point - query).squaredNorm() < radius_sq) return true;
-        }
-      }
-    }
-  }
-  return false;
+  return !Search(query, radius, [](int, const Eigen::Vector3d&) { return false; });
 }
 
 }  // namespace msm_sim::core

@@ -22,7 +22,12 @@ class SpatialHashGrid {
   /// Calls visit(index, point) for every inserted point strictly closer than `radius` to `query`.
   /// Precondition: radius <= cell_size.
   template <typename Visitor>
-  void ForEachWithin(const Eigen::Vector3d& query, double radius, Visitor&& visit) const;
+  void ForEachWithin(const Eigen::Vector3d& query, double radius, Visitor&& visit) const {
+    Search(query, radius, [&](int index, const Eigen::Vector3d& point) {
+      visit(index, point);
+      return true;
+    });
+  }
 
   /// True if any inserted point lies strictly closer than `radius` to `query`.
   bool AnyWithin(const Eigen::Vector3d& query, double radius) const;
@@ -36,13 +41,17 @@ class SpatialHashGrid {
   Eigen::Vector3i CellOf(const Eigen::Vector3d& point) const;
   static CellKey Key(const Eigen::Vector3i& cell);
 
+  // Visits the points closer than radius in the 27 cells around query until visit returns false;
+  // returns false if it was stopped.
+  template <typename Visitor>
+  bool Search(const Eigen::Vector3d& query, double radius, Visitor&& visit) const;
+
   double cell_size_;
   std::unordered_map<CellKey, std::vector<Entry>> cells_;
 };
 
 template <typename Visitor>
-void SpatialHashGrid::ForEachWithin(const Eigen::Vector3d& query, double radius,
-                                    Visitor&& visit) const {
+bool SpatialHashGrid::Search(const Eigen::Vector3d& query, double radius, Visitor&& visit) const {
   const Eigen::Vector3i centre = CellOf(query);
   const double radius_sq = radius * radius;
   for (int dx = -1; dx <= 1; ++dx) {
@@ -51,11 +60,14 @@ void SpatialHashGrid::ForEachWithin(const Eigen::Vector3d& query, double radius,
         const auto it = cells_.find(Key(centre + Eigen::Vector3i(dx, dy, dz)));
         if (it == cells_.end()) continue;
         for (const Entry& entry : it->second) {
-          if ((entry.point - query).squaredNorm() < radius_sq) visit(entry.index, entry.point);
+          if ((entry.point - query).squaredNorm() < radius_sq && !visit(entry.index, entry.point)) {
+            return false;
+          }
         }
       }
     }
   }
+  return true;
 }
 
 }  // namespace msm_sim::core
