@@ -45,7 +45,8 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
 
 // The hot loops below work on raw, non-aliasing pointers: through Eigen column blocks of a
 // matrix passed by pointer the compiler must assume every force store may change the positions
-// or the model arrays, and reloads them (about 40 % more instructions per spring).
+// or the model arrays, and reloads them (callgrind counted 55 instructions per spring in the
+// second eMSM pass written that way; the eMSM evaluation got 7 % faster without).
 namespace {
 
 struct SpringArrays {

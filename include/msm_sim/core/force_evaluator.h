@@ -40,8 +40,9 @@ class ForceEvaluator {
   /// the cost of a step.
   double ElasticEnergy(const Eigen::Matrix3Xd& positions) const;
 
-  /// Direct plus dispersed tension of every spring at the last AccumulateForces (N, > 0
-  /// stretched): what measurements such as momentum flow and Hardy stress must sum.
+  /// Total tension of every spring at the last AccumulateForces (N, > 0 stretched): direct plus
+  /// dispersed plus Baudet correction, what measurements such as momentum flow and Hardy stress
+  /// must sum.
   const Eigen::VectorXd& total_tensions() const { return total_tensions_; }
 
   /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness.
