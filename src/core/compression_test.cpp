@@ -67,6 +67,21 @@ CompressionTestResult RunCompressionTest(const Model& model,
   }
 
   CompressionTestResult result;
+  // The central region whose deformation gives nu.
+  std::vector<int> central;
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d r = rest.col(i) - centre;
+    if (std::abs(r.x()) > central_half_length) continue;
+    if (std::abs(r.y()) > 0.5 * options.central_width_fraction * size.y()) continue;
+    if (std::abs(r.z()) > 0.5 * options.central_width_fraction * size.z()) continue;
+    central.push_back(i);
+  }
+  result.central_nodes = static_cast<int>(central.size());
+  if (result.central_nodes < 8) {
+    throw std::invalid_argument("only " + std::to_string(result.central_nodes) +
+                                " nodes in the central region; refine the lattice");
+  }
+
   // Prescribed ends: affine compression about the centre along x, free laterally.
   Eigen::Matrix3Xd positions = rest;
   DofConstraints constraints(n);
@@ -102,19 +117,6 @@ CompressionTestResult RunCompressionTest(const Model& model,
   // nu from the deformation of the central region: a least-squares affine fit
   // x = F X + c over its nodes, then the right stretch U = sqrt(F^T F). Free-slip ends leave the
   // rotation about x undetermined; U is blind to it, where slopes of u_y against y are not.
-  std::vector<int> central;
-  for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = rest.col(i) - centre;
-    if (std::abs(r.x()) > central_half_length) continue;
-    if (std::abs(r.y()) > 0.5 * options.central_width_fraction * size.y()) continue;
-    if (std::abs(r.z()) > 0.5 * options.central_width_fraction * size.z()) continue;
-    central.push_back(i);
-  }
-  result.central_nodes = static_cast<int>(central.size());
-  if (result.central_nodes < 8) {
-    throw std::invalid_argument("only " + std::to_string(result.central_nodes) +
-                                " nodes in the central region; refine the lattice");
-  }
   const Eigen::Matrix3d stretch = CentralStretch(rest, positions, central, centre);
   const double strain_xx = stretch(0, 0) - 1.0;
   const double strain_lateral = 0.5 * (stretch(1, 1) + stretch(2, 2)) - 1.0;
