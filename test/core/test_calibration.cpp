@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include "compression_helpers.h"
 #include "msm_sim/core/cantilever_test.h"
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
@@ -19,13 +20,7 @@ constexpr double kYoungs = 1e5;
 const Material kMaterial = Material::FromYoungsPoisson(kYoungs, 0.25, 1100.0);
 const Eigen::Vector3d kBlock(2.0, 1.0, 1.0);  // one physical block, m
 
-CompressionTestResult Compress(const Model& model, const Eigen::Vector3d& size) {
-  CompressionTestOptions options;
-  options.body_size = size;
-  const CompressionTestResult result = RunCompressionTest(model, options);
-  EXPECT_TRUE(result.solver.converged) << result.solver.message;
-  return result;
-}
+using testing::Compress;
 
 CompressionTestResult CompressCubic(CubicConstruction construction, double spacing,
                                     double angle_deg = 0.0) {

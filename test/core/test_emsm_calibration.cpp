@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "compression_helpers.h"
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
 #include "msm_sim/core/model_statistics.h"
@@ -15,13 +16,7 @@ namespace {
 constexpr double kYoungs = 1e5;
 const std::vector<double> kTargets = {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49};
 
-CompressionTestResult Compress(const Model& model, const Eigen::Vector3d& size) {
-  CompressionTestOptions options;
-  options.body_size = size;
-  const CompressionTestResult result = RunCompressionTest(model, options);
-  EXPECT_TRUE(result.solver.converged) << result.solver.message;
-  return result;
-}
+using testing::Compress;
 
 class CubicEmsm : public ::testing::TestWithParam<CubicConstruction> {};
 

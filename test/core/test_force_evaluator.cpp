@@ -61,6 +61,23 @@ void ExpectExactLinearisation(const Model& model, const Eigen::Matrix3Xd& x,
   }
 }
 
+// Checks the forces at x against central differences of ElasticEnergy at the given DOFs.
+void ExpectForcesAreMinusEnergyGradient(const Model& model, const Eigen::Matrix3Xd& x,
+                                        const std::vector<int>& dofs) {
+  const Eigen::Matrix3Xd f = Forces(model, x);
+  const double h = 1e-7;
+  for (const int dof : dofs) {
+    Eigen::Matrix3Xd xp = x, xm = x;
+    xp.data()[dof] += h;
+    xm.data()[dof] -= h;
+    double ep = 0.0, em = 0.0;
+    Forces(model, xp, &ep);
+    Forces(model, xm, &em);
+    EXPECT_NEAR(-(ep - em) / (2 * h), f.data()[dof], 1e-5 * (1.0 + std::abs(f.data()[dof])))
+        << "dof " << dof;
+  }
+}
+
 std::vector<int> EveryNthDof(const Model& model, int stride) {
   std::vector<int> dofs;
   for (int dof = 0; dof < 3 * model.num_nodes(); dof += stride) dofs.push_back(dof);
@@ -107,17 +124,8 @@ TEST_P(ForceEvaluatorLaws, ForcesAreMinusEnergyGradient) {
   const double poisson = GetParam() == SpringLaw::kLinear ? 0.45 : 0.25;
   const Model model = RandomModel(poisson, GetParam());
   const Eigen::Matrix3Xd x = Perturbed(model, 0.01, 3);
+  ExpectForcesAreMinusEnergyGradient(model, x, {0, 7, 31, 3 * model.num_nodes() - 1});
   const Eigen::Matrix3Xd f = Forces(model, x);
-  const double h = 1e-7;
-  for (int dof : {0, 7, 31, 3 * model.num_nodes() - 1}) {
-    Eigen::Matrix3Xd xp = x, xm = x;
-    xp.data()[dof] += h;
-    xm.data()[dof] -= h;
-    double ep = 0.0, em = 0.0;
-    Forces(model, xp, &ep);
-    Forces(model, xm, &em);
-    EXPECT_NEAR(-(ep - em) / (2 * h), f.data()[dof], 1e-5 * (1.0 + std::abs(f.data()[dof])));
-  }
   EXPECT_LT(f.rowwise().sum().norm(), 1e-9);  // Newton's third law
 }
 
@@ -154,17 +162,7 @@ TEST_P(ForceEvaluatorLaws, BaudetCorrectionIsExactlyLinearisedAndConservative) {
   ASSERT_EQ(model.correction_edges().size(), 12u);
   const Eigen::Matrix3Xd x = Perturbed(model, 0.004, 11);
   ExpectExactLinearisation(model, x, EveryNthDof(model, 5));
-  const Eigen::Matrix3Xd f = Forces(model, x);
-  const double h = 1e-7;
-  for (const int dof : EveryNthDof(model, 5)) {
-    Eigen::Matrix3Xd xp = x, xm = x;
-    xp.data()[dof] += h;
-    xm.data()[dof] -= h;
-    double ep = 0.0, em = 0.0;
-    Forces(model, xp, &ep);
-    Forces(model, xm, &em);
-    EXPECT_NEAR(-(ep - em) / (2 * h), f.data()[dof], 1e-5 * (1.0 + std::abs(f.data()[dof])));
-  }
+  ExpectForcesAreMinusEnergyGradient(model, x, EveryNthDof(model, 5));
 }
 
 INSTANTIATE_TEST_SUITE_P(Laws, ForceEvaluatorLaws,
