@@ -17,18 +17,22 @@ const std::array<Eigen::Vector3i, kNumHalfOffsets> kHalfOffsets = {
     Eigen::Vector3i(1, 1, 0),  Eigen::Vector3i(1, -1, 0), Eigen::Vector3i(1, 0, 1),
     Eigen::Vector3i(1, 0, -1), Eigen::Vector3i(0, 1, 1),  Eigen::Vector3i(0, 1, -1)};
 
-void Validate(const BoxLattice& box) {
-  if (!box.size.allFinite() || (box.size.array() <= 0.0).any()) {
+void ValidateSizeAndSpacing(const Eigen::Vector3d& size, double spacing) {
+  if (!size.allFinite() || (size.array() <= 0.0).any()) {
     throw std::invalid_argument("box size must be finite and > 0 along every axis");
   }
-  if (!std::isfinite(box.spacing) || box.spacing <= 0.0) {
+  if (!std::isfinite(spacing) || spacing <= 0.0) {
     throw std::invalid_argument("lattice spacing must be finite and > 0");
   }
-  if (box.spacing > box.size.minCoeff()) {
-    throw std::invalid_argument("lattice spacing " + std::to_string(box.spacing) +
+  if (spacing > size.minCoeff()) {
+    throw std::invalid_argument("lattice spacing " + std::to_string(spacing) +
                                 " m is larger than the smallest box edge " +
-                                std::to_string(box.size.minCoeff()) + " m");
+                                std::to_string(size.minCoeff()) + " m");
   }
+}
+
+void Validate(const BoxLattice& box) {
+  ValidateSizeAndSpacing(box.size, box.spacing);
   const double expected_nodes = box.size.prod() / std::pow(box.spacing, 3);
   if (expected_nodes > box.max_nodes) {
     throw std::invalid_argument(

@@ -18,8 +18,11 @@ struct BoxLattice {
   int max_nodes;
 };
 
-/// Throws std::invalid_argument for non-finite or non-positive sizes or spacing, a spacing larger
-/// than the smallest edge, more than max_nodes expected nodes, or a bad rotation.
+/// Throws std::invalid_argument for non-finite or non-positive sizes or spacing, or a spacing
+/// larger than the smallest edge. Shared by every lattice builder.
+void ValidateSizeAndSpacing(const Eigen::Vector3d& size, double spacing);
+
+/// ValidateSizeAndSpacing, and more than max_nodes expected nodes or a bad rotation.
 void Validate(const BoxLattice& box);
 
 // The 9 neighbour offsets with a positive leading component; with their negatives they form the

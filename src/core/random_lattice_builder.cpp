@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "lattice_geometry.h"
 #include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/model_builder.h"
 #include "msm_sim/core/spatial_hash_grid.h"
@@ -16,17 +17,7 @@ namespace msm_sim::core {
 namespace {
 
 void Validate(const RandomLatticeOptions& options) {
-  if (!options.size.allFinite() || (options.size.array() <= 0.0).any()) {
-    throw std::invalid_argument("box size must be finite and > 0 along every axis");
-  }
-  if (!std::isfinite(options.spacing) || options.spacing <= 0.0) {
-    throw std::invalid_argument("random lattice spacing l must be finite and > 0");
-  }
-  if (options.spacing > options.size.minCoeff()) {
-    throw std::invalid_argument("random lattice spacing " + std::to_string(options.spacing) +
-                                " m is larger than the smallest box edge " +
-                                std::to_string(options.size.minCoeff()) + " m");
-  }
+  lattice::ValidateSizeAndSpacing(options.size, options.spacing);
   if (!(options.min_distance > 0.0) || !(options.max_distance > options.min_distance) ||
       !std::isfinite(options.max_distance)) {
     throw std::invalid_argument("need 0 < min distance < max distance (multiples of l), got " +
@@ -104,9 +95,10 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
   }
 
   const double node_mass = material.density() * volume / target;
+  const double q = DispersionFraction(material.poisson_ratio());
   ModelBuilder builder(material);
   builder.SetSpringLaw(options.spring_law);
-  builder.SetDispersionFraction(DispersionFraction(material.poisson_ratio()));
+  builder.SetDispersionFraction(q);
   for (const Eigen::Vector3d& p : points) builder.AddNode(p, node_mass);
 
   struct Pair {
@@ -131,17 +123,19 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
   double sum_shape = 0.0;
   for (const Pair& pair : pairs) sum_shape += inverse_square ? 1.0 : pair.length * pair.length;
   const double c = DirectSpringSumKL2(material, volume) / sum_shape;
-  std::vector<std::vector<StarSpring>> stars(target);
+  const bool isotropise = options.isotropic_dispersion && q > 0.0;
+  std::vector<std::vector<StarSpring>> stars(isotropise ? target : 0);
   for (const Pair& pair : pairs) {
     const double k = inverse_square ? c / (pair.length * pair.length) : c;
     const SpringIndex s = builder.AddSpring(pair.i, pair.j, k);
+    if (!isotropise) continue;
     const Eigen::Vector3d u = (points[pair.j] - points[pair.i]) / pair.length;
     const double k_l2 = k * pair.length * pair.length;
     stars[pair.i].push_back({s, u, k_l2});
     stars[pair.j].push_back({s, -u, k_l2});
   }
-  if (options.isotropic_dispersion && DispersionFraction(material.poisson_ratio()) > 0.0) {
-    for (int i = 0; i < target; ++i) SetIsotropicDispersionWeights(i, stars[i], &builder);
+  for (std::size_t i = 0; i < stars.size(); ++i) {
+    SetIsotropicDispersionWeights(static_cast<NodeIndex>(i), stars[i], &builder);
   }
   return builder.Build(volume, std::cbrt(volume / target));
 }

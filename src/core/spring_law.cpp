@@ -14,8 +14,4 @@ bool ParseSpringLaw(const std::string& name, SpringLaw* law) {
   return false;
 }
 
-const char* SpringLawName(SpringLaw law) {
-  return law == SpringLaw::kLinear ? "linear" : "nonlinear";
-}
-
 }  // namespace msm_sim::core

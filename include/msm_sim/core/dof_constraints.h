@@ -22,7 +22,6 @@ class DofConstraints {
   void FixDof(NodeIndex node, int axis) { fixed_[3 * static_cast<std::size_t>(node) + axis] = 1; }
 
   bool is_fixed(int dof) const { return fixed_[dof] != 0; }
-  int num_dofs() const { return static_cast<int>(fixed_.size()); }
 
   /// The free DOFs in increasing order.
   std::vector<int> FreeDofs() const;

@@ -29,7 +29,6 @@ class ModelBuilder {
   void SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight);
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
-  double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
   /// Adds a Baudet correction element (see Model::correction_edges): 4 x-, 4 y- and 4 z-edge
   /// springs and the coefficient c (N/m). Precondition: the springs exist.
   void AddCorrectionElement(const std::array<SpringIndex, 12>& edges, double coefficient) {
@@ -42,8 +41,6 @@ class ModelBuilder {
 
   int num_nodes() const { return static_cast<int>(masses_.size()); }
   int num_springs() const { return static_cast<int>(stiffness_.size()); }
-  const Eigen::Vector3d& node_position(NodeIndex i) const { return positions_[i]; }
-  double spring_rest_length(SpringIndex s) const { return rest_length_[s]; }
 
   /// Compiles the model. Throws std::invalid_argument if there are no nodes or if volume or
   /// characteristic length are not positive.

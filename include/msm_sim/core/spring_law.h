@@ -17,7 +17,6 @@ enum class SpringLaw {
 
 /// Parses "linear" / "nonlinear"; returns false for anything else.
 bool ParseSpringLaw(const std::string& name, SpringLaw* law);
-const char* SpringLawName(SpringLaw law);
 
 /// Tension (N, > 0 stretched) of a spring of stiffness k, rest length l0 and length l.
 template <SpringLaw Law>
