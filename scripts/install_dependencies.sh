@@ -13,6 +13,8 @@ packages=(
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
   libcli11-dev nlohmann-json3-dev python3-matplotlib
   googletest libgtest-dev libgmock-dev libbenchmark-dev
+  # Test set-up: the mesh importer is checked against every model assimp ships.
+  assimp-testmodels
 )
 
 missing=()

@@ -45,11 +45,17 @@ double StressCorrectedPoisson(const Eigen::Matrix3d& e, const Eigen::Matrix3d& s
 
 CompressionTestResult RunCompressionTest(const Model& model,
                                          const CompressionTestOptions& options) {
+  if (options.axis < 0 || options.axis > 2) {
+    throw std::invalid_argument("compression axis must be 0, 1 or 2, got " +
+                                std::to_string(options.axis));
+  }
   if (!(options.strain > 0.0 && options.strain < 0.5)) {
     throw std::invalid_argument("compressive strain must lie in (0, 0.5), got " +
                                 std::to_string(options.strain));
   }
   const Eigen::Vector3d& size = options.body_size;
+  const int ax = options.axis;                         // compressed
+  const int lat1 = (ax + 1) % 3, lat2 = (ax + 2) % 3;  // lateral
   const Eigen::Vector3d centre = 0.5 * size;
   const auto& rest = model.rest_positions();
   const int n = model.num_nodes();
@@ -59,8 +65,8 @@ CompressionTestResult RunCompressionTest(const Model& model,
           : model.characteristic_length();
   const double end_width =
       options.end_region_width > 0.0 ? options.end_region_width : 1.5 * longest_spring;
-  const double central_half_length = 0.5 * options.central_length_fraction * size.x();
-  if (end_width >= 0.5 * size.x() - central_half_length) {
+  const double central_half_length = 0.5 * options.central_length_fraction * size[ax];
+  if (end_width >= 0.5 * size[ax] - central_half_length) {
     throw std::invalid_argument("the block is too short: end regions of " +
                                 std::to_string(end_width) +
                                 " m leave no free middle; make it longer or the lattice finer");
@@ -71,9 +77,9 @@ CompressionTestResult RunCompressionTest(const Model& model,
   std::vector<int> central;
   for (int i = 0; i < n; ++i) {
     const Eigen::Vector3d r = rest.col(i) - centre;
-    if (std::abs(r.x()) > central_half_length) continue;
-    if (std::abs(r.y()) > 0.5 * options.central_width_fraction * size.y()) continue;
-    if (std::abs(r.z()) > 0.5 * options.central_width_fraction * size.z()) continue;
+    if (std::abs(r[ax]) > central_half_length) continue;
+    if (std::abs(r[lat1]) > 0.5 * options.central_width_fraction * size[lat1]) continue;
+    if (std::abs(r[lat2]) > 0.5 * options.central_width_fraction * size[lat2]) continue;
     central.push_back(i);
   }
   result.central_nodes = static_cast<int>(central.size());
@@ -87,9 +93,9 @@ CompressionTestResult RunCompressionTest(const Model& model,
   DofConstraints constraints(n);
   for (int i = 0; i < n; ++i) {
     // The initial guess is the same affine compression everywhere (no lateral expansion).
-    positions(0, i) = centre.x() + (1.0 - options.strain) * (rest(0, i) - centre.x());
-    if (rest(0, i) < end_width || rest(0, i) > size.x() - end_width) {
-      constraints.FixDof(i, 0);
+    positions(ax, i) = centre[ax] + (1.0 - options.strain) * (rest(ax, i) - centre[ax]);
+    if (rest(ax, i) < end_width || rest(ax, i) > size[ax] - end_width) {
+      constraints.FixDof(i, ax);
       ++result.end_nodes;
     }
   }
@@ -103,23 +109,24 @@ CompressionTestResult RunCompressionTest(const Model& model,
   result.solver =
       SolveStaticEquilibrium(model, constraints, Eigen::Matrix3Xd::Zero(3, n), solver, &positions);
 
-  // E from the momentum flow through the middle yz plane.
+  // E from the momentum flow through the middle plane across the axis.
   ForceEvaluator evaluator(model);
   Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, n);
   evaluator.AccumulateForces(positions, &forces);
   const Eigen::VectorXd& tensions = evaluator.total_tensions();
   const Eigen::Vector3d flow = MomentumFlowThroughPlane(
-      model, positions, tensions, MaterialPlane{centre, Eigen::Vector3d::UnitX()});
-  result.axial_force = -flow.x();
-  const double area = size.y() * size.z();
+      model, positions, tensions, MaterialPlane{centre, Eigen::Vector3d::Unit(ax)});
+  result.axial_force = -flow[ax];
+  const double area =
+      options.cross_section_area > 0.0 ? options.cross_section_area : size[lat1] * size[lat2];
   result.youngs_measured = (result.axial_force / area) / options.strain;
 
   // nu from the deformation of the central region: a least-squares affine fit
   // x = F X + c over its nodes, then the right stretch U = sqrt(F^T F). Free-slip ends leave the
   // rotation about x undetermined; U is blind to it, where slopes of u_y against y are not.
   const Eigen::Matrix3d stretch = CentralStretch(rest, positions, central, centre);
-  const double strain_xx = stretch(0, 0) - 1.0;
-  const double strain_lateral = 0.5 * (stretch(1, 1) + stretch(2, 2)) - 1.0;
+  const double strain_xx = stretch(ax, ax) - 1.0;
+  const double strain_lateral = 0.5 * (stretch(lat1, lat1) + stretch(lat2, lat2)) - 1.0;
   result.poisson_measured = -strain_lateral / strain_xx;
 
   // Stress-corrected values from point probes at the centre (thesis 3.1).
@@ -128,8 +135,11 @@ CompressionTestResult RunCompressionTest(const Model& model,
   result.centre_stress = HardyStress(model, positions, tensions, centre, 1.3 * a);
   if (centre_strain) {
     result.centre_strain = *centre_strain;
-    const Eigen::Matrix3d& e = result.centre_strain;
-    const Eigen::Matrix3d& s = result.centre_stress;
+    // The formulas below take the compressed axis first: permute (ax, lat1, lat2) -> (x, y, z).
+    Eigen::Matrix3d to_axis_first = Eigen::Matrix3d::Zero();
+    to_axis_first(0, ax) = to_axis_first(1, lat1) = to_axis_first(2, lat2) = 1.0;
+    const Eigen::Matrix3d e = to_axis_first * result.centre_strain * to_axis_first.transpose();
+    const Eigen::Matrix3d s = to_axis_first * result.centre_stress * to_axis_first.transpose();
     result.poisson_stress_corrected = StressCorrectedPoisson(e, s);
     result.youngs_stress_corrected =
         (s(0, 0) - result.poisson_stress_corrected * (s(1, 1) + s(2, 2))) / e(0, 0);

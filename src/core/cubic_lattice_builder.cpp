@@ -11,6 +11,7 @@
 #include "lattice_geometry.h"
 #include "msm_sim/core/extended_msm.h"
 #include "msm_sim/core/model_builder.h"
+#include "node_centred_lattice.h"
 
 namespace msm_sim::core {
 namespace {
@@ -30,70 +31,23 @@ ModelBuilder MakeBuilder(const Material& material, const CubicLatticeOptions& op
 }
 
 Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& options) {
-  const double a = options.spacing;
-  const double kappa = material.shear_modulus() * a;
-  const double node_mass = material.density() * a * a * a;
-  const LatticeFrame frame = CellFrame(Box(options));
-  Eigen::Vector3i lo, hi;
-  frame.CoveringRange(options.size, &lo, &hi);
-  LatticeIndex index(lo, hi);
-
-  ModelBuilder builder = MakeBuilder(material, options);
-  std::vector<Eigen::Vector3i> coords;
-  const double tolerance = 1e-9 * a;
-  for (int k = lo.z(); k <= hi.z(); ++k) {
-    for (int j = lo.y(); j <= hi.y(); ++j) {
-      for (int i = lo.x(); i <= hi.x(); ++i) {
+  OccupiedCells cells;
+  cells.frame = CellFrame(Box(options));
+  cells.frame.CoveringRange(options.size, &cells.lo, &cells.hi);
+  const double tolerance = 1e-9 * options.spacing;
+  for (int k = cells.lo.z(); k <= cells.hi.z(); ++k) {
+    for (int j = cells.lo.y(); j <= cells.hi.y(); ++j) {
+      for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
         const Eigen::Vector3i c(i, j, k);
-        const Eigen::Vector3d p = frame.Position(c);
-        if (!InsideBox(p, options.size, tolerance)) continue;
-        CheckNodeBudget(static_cast<long long>(coords.size()) + 1, options.max_nodes);
-        index.At(c) = builder.AddNode(p, node_mass);
-        coords.push_back(c);
+        if (!InsideBox(cells.frame.Position(c), options.size, tolerance)) continue;
+        CheckNodeBudget(static_cast<long long>(cells.coords.size()) + 1, options.max_nodes);
+        cells.coords.push_back(c);
+        cells.fractions.push_back(1.0);
       }
     }
   }
-  if (coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
-
-  const int n = static_cast<int>(coords.size());
-  std::vector<SpringIndex> spring_of(static_cast<std::size_t>(n) * kNumHalfOffsets, -1);
-  for (int node = 0; node < n; ++node) {
-    for (int o = 0; o < kNumHalfOffsets; ++o) {
-      const int other = index.Find(coords[node] + kHalfOffsets[o]);
-      if (other >= 0) spring_of[node * kNumHalfOffsets + o] = builder.AddSpring(node, other, kappa);
-    }
-  }
-
-  if (options.compensate_surface) {
-    // Missing neighbours mirrored onto each spring end (a, b); see BuildCubicLattice.
-    std::vector<int> mirrored(2 * static_cast<std::size_t>(builder.num_springs()), 0);
-    for (int node = 0; node < n; ++node) {
-      for (int o = 0; o < kNumHalfOffsets; ++o) {
-        for (const int sign : {1, -1}) {
-          const Eigen::Vector3i d = sign * kHalfOffsets[o];
-          if (index.Find(coords[node] + d) >= 0) continue;  // neighbour present
-          const int opposite = index.Find(coords[node] - d);
-          if (opposite < 0) continue;  // one cell thick along d: nothing to carry it
-          // Spring (node, node - d): stored at the endpoint from which it points along +offset.
-          const SpringIndex s = sign > 0 ? spring_of[opposite * kNumHalfOffsets + o]
-                                         : spring_of[node * kNumHalfOffsets + o];
-          builder.AddStiffness(s, 0.5 * kappa);
-          mirrored[2 * s + (builder.spring_node_a(s) == node ? 0 : 1)] += 1;
-        }
-      }
-    }
-    // In node i's star the spring (i, i - d) stands for itself and for each mirrored neighbour
-    // (m copies at end i). Its tension k dL, with k = kappa (m_a + m_b) / 2, is shared by the
-    // ends in proportion: weight v = 2 m / (m_a + m_b), so each end counts its own copies at the
-    // nominal kappa dL (and receives m copies' share of the dispersion, w = v k L0^2).
-    for (SpringIndex s = 0; s < builder.num_springs(); ++s) {
-      const double ma = 1.0 + mirrored[2 * s];
-      const double mb = 1.0 + mirrored[2 * s + 1];
-      builder.SetDispersionWeight(s, builder.spring_node_a(s), 2.0 * ma / (ma + mb));
-      builder.SetDispersionWeight(s, builder.spring_node_b(s), 2.0 * mb / (ma + mb));
-    }
-  }
-  return builder.Build(n * a * a * a, a);
+  if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
+  return BuildNodeCentredModel(material, cells, options.compensate_surface, options.spring_law);
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {

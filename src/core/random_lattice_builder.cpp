@@ -1,6 +1,7 @@
 #include "msm_sim/core/random_lattice_builder.h"
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -57,11 +58,19 @@ void SetIsotropicDispersionWeights(NodeIndex node, const std::vector<StarSpring>
   for (int n = 0; n < b; ++n) builder->SetDispersionWeight(star[n].spring, node, 1.0 + d[n]);
 }
 
-}  // namespace
+// Where random sequential addition may place nodes and springs.
+struct Region {
+  Eigen::Vector3d min, max;  // bounding box to draw from
+  double volume;             // m^3
+  std::function<bool(const Eigen::Vector3d&)> contains;
+  // Springs whose segment leaves the body (across a concave notch) would join parts that do
+  // not touch; the region can veto them.
+  std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)> spring_allowed;
+};
 
-Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& options) {
-  Validate(options);
-  const double volume = options.size.prod();
+Model BuildInRegion(const Material& material, const RandomLatticeOptions& options,
+                    const Region& region) {
+  const double volume = region.volume;
   const double l = options.spacing;
   const double requested = std::round(volume / (l * l * l));
   if (requested > options.max_nodes) {
@@ -81,9 +90,11 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
   points.reserve(target);
   const long long max_draws = static_cast<long long>(options.max_draws_per_node) * target;
   for (long long draw = 0; draw < max_draws && static_cast<int>(points.size()) < target; ++draw) {
-    const Eigen::Vector3d p(unit(rng) * options.size.x(), unit(rng) * options.size.y(),
-                            unit(rng) * options.size.z());
-    if (placed_grid.AnyWithin(p, min_length)) continue;
+    const Eigen::Vector3d extent = region.max - region.min;
+    const Eigen::Vector3d p =
+        region.min +
+        Eigen::Vector3d(unit(rng) * extent.x(), unit(rng) * extent.y(), unit(rng) * extent.z());
+    if (placed_grid.AnyWithin(p, min_length) || !region.contains(p)) continue;
     placed_grid.Insert(static_cast<int>(points.size()), p);
     points.push_back(p);
   }
@@ -110,7 +121,9 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
   for (int i = 0; i < target; ++i) connect_grid.Insert(i, points[i]);
   for (int i = 0; i < target; ++i) {
     connect_grid.ForEachWithin(points[i], max_length, [&](int j, const Eigen::Vector3d& q) {
-      if (j > i) pairs.push_back(Pair{i, j, (q - points[i]).norm()});
+      if (j > i && region.spring_allowed(points[i], q)) {
+        pairs.push_back(Pair{i, j, (q - points[i]).norm()});
+      }
     });
   }
   if (pairs.empty()) {
@@ -138,6 +151,30 @@ Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& o
     SetIsotropicDispersionWeights(static_cast<NodeIndex>(i), stars[i], &builder);
   }
   return builder.Build(volume, std::cbrt(volume / target));
+}
+
+}  // namespace
+
+Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& options) {
+  Validate(options);
+  Region box{Eigen::Vector3d::Zero(), options.size, options.size.prod(),
+             [](const Eigen::Vector3d&) { return true; },
+             [](const Eigen::Vector3d&, const Eigen::Vector3d&) { return true; }};
+  return BuildInRegion(material, options, box);
+}
+
+Model BuildRandomLatticeInSolid(const Material& material, const SolidMesh& solid,
+                                const RandomLatticeOptions& options) {
+  const Eigen::Vector3d extent = solid.max_corner() - solid.min_corner();
+  RandomLatticeOptions checked = options;
+  checked.size = extent;
+  Validate(checked);
+  Region body{solid.min_corner(), solid.max_corner(), solid.volume(),
+              [&solid](const Eigen::Vector3d& p) { return solid.Contains(p); },
+              [&solid](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+                return !solid.SegmentCrossesSurface(a, b);
+              }};
+  return BuildInRegion(material, options, body);
 }
 
 }  // namespace msm_sim::core

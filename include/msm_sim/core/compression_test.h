@@ -7,13 +7,18 @@
 
 namespace msm_sim::core {
 
-/// The uniaxial compression experiment of SPEC.md §6 / thesis 3.2.1 on a block [0, size].
+/// The uniaxial compression experiment of SPEC.md §6 / thesis 3.2.1 on a block [0, size]
+/// (below, x stands for the compressed axis and y, z for the other two).
 struct CompressionTestOptions {
   Eigen::Vector3d body_size = Eigen::Vector3d::Ones();  ///< m; the block the model fills
+  int axis = 0;                                         ///< compressed axis: 0 (x), 1 (y) or 2 (z)
   double strain = 0.01;  ///< imposed compressive strain along x, in (0, 0.5)
   /// Nodes whose rest x is within this distance (m) of either x face are moved affinely along x
   /// and left free in y and z (ends that slide laterally). <= 0: 1.5 x the longest rest spring.
   double end_region_width = 0.0;
+  /// Cross-section (m^2) the axial force is divided by; <= 0: the block's, Ly Lz. A body that
+  /// is not a block (a mesh) gives the area of its section through the middle plane.
+  double cross_section_area = 0.0;
   /// The central region whose deformation gives nu: |x - xc| <= fraction Lx / 2 and the central
   /// 80 % of the width in y and z (thesis).
   double central_length_fraction = 0.5;
@@ -35,8 +40,8 @@ struct CompressionTestResult {
   StaticSolverReport solver;
 };
 
-/// Runs the experiment. Throws std::invalid_argument for an impossible set-up (strain out of
-/// range, end regions that leave no free middle, a central region with too few nodes); a solver
+/// Runs the experiment. Throws std::invalid_argument for an impossible set-up (axis or strain out
+/// of range, end regions that leave no free middle, a central region with too few nodes); a solver
 /// that fails to converge is reported in result.solver, not thrown.
 CompressionTestResult RunCompressionTest(const Model& model, const CompressionTestOptions& options);
 

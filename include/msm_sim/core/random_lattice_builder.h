@@ -6,6 +6,7 @@
 
 #include "msm_sim/core/material.h"
 #include "msm_sim/core/model.h"
+#include "msm_sim/core/solid_mesh.h"
 #include "msm_sim/core/spring_law.h"
 
 namespace msm_sim::core {
@@ -44,5 +45,12 @@ struct RandomLatticeOptions {
 /// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place
 /// the requested nodes (minL too large for the density).
 Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& options);
+
+/// The same for the body bounded by `solid` (options.size is ignored): N = round(V / l^3) with V
+/// the mesh volume, nodes drawn inside the surface, and no spring whose segment crosses the
+/// surface (it would tie together parts across a concave notch). Throws as BuildRandomLattice,
+/// with the spacing checked against the smallest bounding-box edge.
+Model BuildRandomLatticeInSolid(const Material& material, const SolidMesh& solid,
+                                const RandomLatticeOptions& options);
 
 }  // namespace msm_sim::core
