@@ -108,4 +108,13 @@ ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions
   return result;
 }
 
+SolidMesh ImportSolidMesh(const std::string& path, const MeshImportOptions& options) {
+  ImportedMesh imported = ImportTriangleMesh(path, options);
+  try {
+    return SolidMesh(imported.mesh);
+  } catch (const std::invalid_argument& e) {
+    Fail(path, e.what());
+  }
+}
+
 }  // namespace msm_sim::core

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "lattice_geometry.h"
+#include "msm_sim/core/box_clipping.h"
 #include "node_centred_lattice.h"
 
 namespace msm_sim::core {
@@ -20,29 +21,10 @@ void Validate(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
   BoxLattice box{solid.max_corner() - solid.min_corner(), options.spacing, options.rotation_axis,
                  options.rotation_angle, options.max_nodes};
   Validate(box);
-  if (options.antialias_samples < 1 || options.antialias_samples > 16) {
-    throw std::invalid_argument("anti-aliasing samples per axis must lie in 1..16, got " +
-                                std::to_string(options.antialias_samples));
-  }
   if (!(options.min_fraction >= 0.0 && options.min_fraction < 1.0)) {
     throw std::invalid_argument("minimum cell fraction must lie in [0, 1), got " +
                                 std::to_string(options.min_fraction));
   }
-}
-
-// Fraction of the cell [centre - a/2, centre + a/2]^3 inside the solid, from stratified samples.
-double SampledFraction(const SolidMesh& solid, const Eigen::Vector3d& centre, double a,
-                       int samples) {
-  int inside = 0;
-  for (int k = 0; k < samples; ++k) {
-    for (int j = 0; j < samples; ++j) {
-      for (int i = 0; i < samples; ++i) {
-        const Eigen::Vector3d offset = (Eigen::Vector3d(i, j, k).array() + 0.5) / samples - 0.5;
-        if (solid.Contains(centre + a * offset)) ++inside;
-      }
-    }
-  }
-  return static_cast<double>(inside) / (samples * samples * samples);
 }
 
 OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
@@ -54,13 +36,19 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
           : Eigen::AngleAxisd(options.rotation_angle, options.rotation_axis.normalized())
                 .toRotationMatrix();
   cells.frame.centre = 0.5 * (solid.min_corner() + solid.max_corner());
-  cells.frame.offset = Eigen::Vector3d::Zero();
   cells.frame.unit = a;
   // Work in the lattice frame, where cells are axis-aligned boxes the AABB tree can test.
   const Eigen::Matrix3d to_lattice = cells.frame.rotation.transpose();
   const SolidMesh local = TransformedSolid(solid, to_lattice, -to_lattice * cells.frame.centre);
-  cells.lo = (local.min_corner() / a).array().floor().cast<int>() - 1;
-  cells.hi = (local.max_corner() / a).array().ceil().cast<int>() + 1;
+  // As for boxes (CellFrame): with an even number of cells across an axis, put cell faces, not
+  // a cell centre, on the middle, so that a lattice-aligned box of a whole number of cells is
+  // tiled exactly.
+  for (int axis = 0; axis < 3; ++axis) {
+    const double across = (local.max_corner()[axis] - local.min_corner()[axis]) / a;
+    cells.frame.offset[axis] = std::lround(across) % 2 == 0 ? 0.5 : 0.0;
+  }
+  cells.lo = (local.min_corner() / a - cells.frame.offset).array().floor().cast<int>() - 1;
+  cells.hi = (local.max_corner() / a - cells.frame.offset).array().ceil().cast<int>() + 1;
   const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * a);
   const Eigen::Vector3i extent = cells.hi - cells.lo + Eigen::Vector3i::Ones();
   const auto flat = [&](const Eigen::Vector3i& c) {
@@ -72,20 +60,19 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
     for (int j = cells.lo.y(); j <= cells.hi.y(); ++j) {
       for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
         const Eigen::Vector3i c(i, j, k);
-        const Eigen::Vector3d centre = a * c.cast<double>();
+        const Eigen::Vector3d centre = a * (c.cast<double>() + cells.frame.offset);
         double& chi = fraction[flat(c)];
-        if (options.antialias && local.BoxTouchesSurface(centre - half, centre + half)) {
-          chi = SampledFraction(local, centre, a, options.antialias_samples);
+        if (options.antialias) {
+          chi = VolumeInsideBox(local, centre - half, centre + half) / (a * a * a);
         } else {
-          // Not crossed by the surface (or no anti-aliasing): the centre decides.
-          chi = local.Contains(centre) ? 1.0 : 0.0;
+          chi = local.Contains(centre) ? 1.0 : 0.0;  // the centre decides
         }
       }
     }
   }
   // A dropped sliver's volume goes to the kept cells around it (26-neighbourhood, in proportion
   // to their fractions), so the model keeps the body's mass: without this a sphere of radius 1
-  // at a = 1/2 lost 4 % of it. Cells never lose volume; a border cell may exceed chi = 1.
+  // at a = 1/2 lost 4 % of it. A border cell may end up with chi > 1.
   std::vector<double> absorbed(fraction.size(), 0.0);
   const auto kept = [&](double chi) { return chi > 0.0 && chi >= options.min_fraction; };
   const auto inside_range = [&](const Eigen::Vector3i& c) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -126,6 +127,18 @@ bool SolidMesh::BoxTouchesSurface(const Eigen::Vector3d& lo, const Eigen::Vector
 
 bool SolidMesh::SegmentCrossesSurface(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const {
   return impl_->tree.do_intersect(Kernel::Segment_3(ToPoint(a), ToPoint(b)));
+}
+
+std::vector<int> SolidMesh::TrianglesTouchingBox(const Eigen::Vector3d& lo,
+                                                 const Eigen::Vector3d& hi) const {
+  std::vector<Primitive::Id> faces_hit;
+  impl_->tree.all_intersected_primitives(
+      CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()), std::back_inserter(faces_hit));
+  // The surface mesh's faces were added in the order of the triangles.
+  std::vector<int> triangles;
+  triangles.reserve(faces_hit.size());
+  for (const Primitive::Id& face : faces_hit) triangles.push_back(static_cast<int>(face.idx()));
+  return triangles;
 }
 
 SolidMesh TransformedSolid(const SolidMesh& solid, const Eigen::Matrix3d& rotation,

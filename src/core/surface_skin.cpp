@@ -164,7 +164,12 @@ Eigen::Matrix3Xd SurfaceSkin::CornerPositions(const Eigen::Matrix3Xd& node_posit
     throw std::invalid_argument("skin: expected " + std::to_string(corner_weights_.cols()) +
                                 " node positions, got " + std::to_string(node_positions.cols()));
   }
-  return (corner_weights_ * node_positions.transpose()).transpose();
+  // Every row of weights sums to 1, so the corners can be computed from positions relative to
+  // their mean: the weights (large where a corner is extrapolated) then do not multiply the
+  // rounding of a large translation.
+  const Eigen::Vector3d mean = node_positions.rowwise().mean();
+  const Eigen::Matrix3Xd relative = node_positions.colwise() - mean;
+  return ((corner_weights_ * relative.transpose()).transpose()).colwise() + mean;
 }
 
 Eigen::Matrix3Xd SurfaceSkin::DeformedVertices(const Eigen::Matrix3Xd& node_positions) const {

@@ -25,9 +25,13 @@ struct ModelArguments {
   std::string stiffness = "inverse-square";  ///< random only: uniform | inverse-square
   std::string spring = "linear";             ///< linear | nonlinear
   std::string dispersion = "two-pass";       ///< two-pass | one-pass
+  std::string mesh;       ///< closed mesh file filling the body instead of the --size box
+  double scale = 1.0;     ///< mesh coordinates times this are metres
+  bool antialias = true;  ///< mesh + cubic: SPEC.md §5 anti-aliasing
+  int target_nodes = 0;   ///< > 0: choose the spacing for about this many nodes
 };
 
-enum class LabCommand { kCompression, kDeflection, kPoissonSweep };
+enum class LabCommand { kCompression, kDeflection, kPoissonSweep, kBuild };
 
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
@@ -36,6 +40,8 @@ struct LabArguments {
   double force = 0.0;    ///< deflection only, N
   std::vector<double> targets = {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49};  ///< poisson-sweep
   std::string plot;  ///< poisson-sweep: PNG to write, empty for none
+  std::string out;   ///< build: model file to write, empty for none
+  std::string vtk;   ///< build: .vtu file to write, empty for none
   bool json = false;
 };
 

@@ -13,9 +13,14 @@
 #include "msm_sim/core/compression_test.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
 #include "msm_sim/core/extended_msm.h"
+#include "msm_sim/core/mesh_import.h"
+#include "msm_sim/core/mesh_lattice_builder.h"
+#include "msm_sim/core/model_file.h"
 #include "msm_sim/core/model_statistics.h"
 #include "msm_sim/core/random_lattice_builder.h"
 #include "msm_sim/core/spring_law.h"
+#include "msm_sim/core/state.h"
+#include "msm_sim/core/vtk_export.h"
 #include "sweep_plot.h"
 
 namespace msm_sim::lab {
@@ -84,9 +89,16 @@ struct CompressionRun {
 
 CompressionRun Compress(const ModelArguments& model_arguments, double strain) {
   CheckStaticDispersion(model_arguments.dispersion);
-  const core::Model model = BuildLabModel(model_arguments);
+  const LabBody body = LoadLabBody(model_arguments, true);
+  const core::Model model = BuildLabModel(model_arguments, body);
   core::CompressionTestOptions options;
-  options.body_size = model_arguments.size;
+  options.body_size = body.max - body.min;
+  if (body.solid) {
+    // E is the axial stress over the strain: the force through the middle plane over the area
+    // of the body's section there (the box's Ly Lz for a block).
+    options.cross_section_area = core::CrossSectionArea(
+        body.solid->surface(), 0.5 * (body.min + body.max), Eigen::Vector3d::UnitX());
+  }
   options.strain = strain;
   return {core::ComputeModelStatistics(model), core::RunCompressionTest(model, options)};
 }
@@ -193,7 +205,7 @@ int RunPoissonSweep(const LabArguments& arguments, std::ostream& out, std::ostre
 int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   CheckStaticDispersion(arguments.model.dispersion);
-  const core::Model model = BuildLabModel(arguments.model);
+  const core::Model model = BuildLabModel(arguments.model, LoadLabBody(arguments.model, true));
   const core::ModelStatistics stats = core::ComputeModelStatistics(model);
   core::CantileverTestOptions options;
   options.body_size = arguments.model.size;
@@ -239,9 +251,74 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
   return 0;
 }
 
+int RunBuild(const LabArguments& arguments, std::ostream& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const LabBody body = LoadLabBody(arguments.model, false);
+  const core::Model model = BuildLabModel(arguments.model, body);
+  const core::ModelStatistics stats = core::ComputeModelStatistics(model);
+  const double build_seconds = Seconds(start);
+  if (!arguments.out.empty()) core::SaveModel(model, arguments.out);
+  if (!arguments.vtk.empty()) core::WriteVtu(model, core::State::AtRest(model), arguments.vtk);
+  const Eigen::Vector3d& lo = body.min;
+  const Eigen::Vector3d& hi = body.max;
+  if (arguments.json) {
+    Json json{{"command", "build"},
+              {"model", arguments.model.model},
+              {"mesh", arguments.model.mesh},
+              {"antialias", arguments.model.antialias},
+              {"spacing", model.characteristic_length()},
+              {"nodes", stats.nodes},
+              {"springs", stats.springs},
+              {"mass", stats.total_mass},
+              {"mesh_volume", body.volume},
+              {"bbox_min", {lo.x(), lo.y(), lo.z()}},
+              {"bbox_max", {hi.x(), hi.y(), hi.z()}},
+              {"mean_springs_per_node", stats.mean_springs_per_node},
+              {"build_seconds", build_seconds}};
+    if (!arguments.out.empty()) json["out"] = arguments.out;
+    if (!arguments.vtk.empty()) json["vtk"] = arguments.vtk;
+    out << json.dump() << "\n";
+    return 0;
+  }
+  out << "mesh             " << arguments.model.mesh << " (scale " << arguments.model.scale << ")\n"
+      << "mesh volume      " << body.volume << " m^3\n"
+      << "bounding box     [" << lo.transpose() << "] .. [" << hi.transpose() << "] m\n"
+      << "spacing          " << model.characteristic_length() << " m"
+      << (arguments.model.model == "cubic"
+              ? (arguments.model.antialias ? ", anti-aliased" : ", not anti-aliased")
+              : "")
+      << "\n";
+  PrintModelTable(arguments.model, stats, out);
+  out << "mass / (rho V)   " << stats.total_mass / (arguments.model.density * body.volume) << "\n";
+  if (!arguments.out.empty()) out << "saved            " << arguments.out << "\n";
+  if (!arguments.vtk.empty()) out << "vtk              " << arguments.vtk << "\n";
+  out << "time: " << build_seconds << " s\n";
+  return 0;
+}
+
 }  // namespace
 
-core::Model BuildLabModel(const ModelArguments& arguments) {
+LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin) {
+  LabBody body;
+  if (arguments.mesh.empty()) {
+    body.max = arguments.size;
+    body.volume = arguments.size.prod();
+    return body;
+  }
+  core::MeshImportOptions options;
+  options.scale = arguments.scale;
+  core::SolidMesh solid = core::ImportSolidMesh(arguments.mesh, options);
+  if (move_to_origin) {
+    solid = core::TransformedSolid(solid, Eigen::Matrix3d::Identity(), -solid.min_corner());
+  }
+  body.min = solid.min_corner();
+  body.max = solid.max_corner();
+  body.volume = solid.volume();
+  body.solid.emplace(std::move(solid));
+  return body;
+}
+
+core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body) {
   const core::Material material =
       core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density);
   core::SpringLaw law = core::SpringLaw::kLinear;
@@ -249,38 +326,64 @@ core::Model BuildLabModel(const ModelArguments& arguments) {
     throw std::invalid_argument("unknown spring law '" + arguments.spring +
                                 "' (expected linear or nonlinear)");
   }
-  if (arguments.model == "cubic") {
+  if (arguments.model != "cubic" && arguments.model != "random" && arguments.model != "baudet") {
+    throw std::invalid_argument("unknown model '" + arguments.model +
+                                "' (expected cubic, random or baudet)");
+  }
+  // A target node count fixes the spacing: N = V / a^3.
+  const double spacing = arguments.target_nodes > 0
+                             ? std::cbrt(body.volume / arguments.target_nodes)
+                             : arguments.spacing;
+  std::optional<Eigen::Vector3d> axis;
+  double angle = 0.0;
+  if (arguments.rotate) {
+    axis = arguments.rotate->head<3>();
+    angle = (*arguments.rotate)[3] * M_PI / 180.0;
+  }
+  if (body.solid) {
+    if (arguments.model == "baudet" || arguments.construction == "corner") {
+      throw std::invalid_argument(
+          "--mesh builds node-centred cubic or random lattices (Baudet bricks and element-corner "
+          "lattices fill boxes only)");
+    }
+    if (arguments.model == "cubic") {
+      core::MeshCubicLatticeOptions options;
+      options.spacing = spacing;
+      options.antialias = arguments.antialias;
+      options.spring_law = law;
+      if (axis) {
+        options.rotation_axis = *axis;
+        options.rotation_angle = angle;
+      }
+      return core::BuildCubicLatticeInSolid(material, *body.solid, options);
+    }
+  } else if (arguments.model == "cubic") {
     core::CubicLatticeOptions options;
     options.size = arguments.size;
-    options.spacing = arguments.spacing;
+    options.spacing = spacing;
     options.construction = arguments.construction == "corner"
                                ? core::CubicConstruction::kElementCorner
                                : core::CubicConstruction::kNodeCentred;
     options.spring_law = law;
-    if (arguments.rotate) {
-      options.rotation_axis = arguments.rotate->head<3>();
-      options.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
+    if (axis) {
+      options.rotation_axis = *axis;
+      options.rotation_angle = angle;
     }
     return core::BuildCubicLattice(material, options);
-  }
-  if (arguments.model == "baudet") {
+  } else if (arguments.model == "baudet") {
     core::BaudetLatticeOptions options;
     options.size = arguments.size;
-    options.spacing = arguments.spacing;
+    options.spacing = spacing;
     options.spring_law = law;
-    if (arguments.rotate) {
-      options.rotation_axis = arguments.rotate->head<3>();
-      options.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
+    if (axis) {
+      options.rotation_axis = *axis;
+      options.rotation_angle = angle;
     }
     return core::BuildBaudetLattice(material, options);
   }
-  if (arguments.model != "random") {
-    throw std::invalid_argument("unknown model '" + arguments.model +
-                                "' (expected cubic, random or baudet)");
-  }
   core::RandomLatticeOptions options;
   options.size = arguments.size;
-  options.spacing = arguments.spacing;
+  options.spacing = spacing;
   options.seed = arguments.seed;
   options.min_distance = arguments.min_dist;
   options.max_distance = arguments.max_dist;
@@ -288,7 +391,8 @@ core::Model BuildLabModel(const ModelArguments& arguments) {
   options.stiffness_law = arguments.stiffness == "uniform"
                               ? core::RandomStiffnessLaw::kUniform
                               : core::RandomStiffnessLaw::kInverseSquare;
-  return core::BuildRandomLattice(material, options);
+  return body.solid ? core::BuildRandomLatticeInSolid(material, *body.solid, options)
+                    : core::BuildRandomLattice(material, options);
 }
 
 int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
@@ -299,6 +403,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunDeflection(arguments, out, err);
     case LabCommand::kPoissonSweep:
       return RunPoissonSweep(arguments, out, err);
+    case LabCommand::kBuild:
+      return RunBuild(arguments, out);
   }
   return 1;
 }

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "msm_sim/core/solid_mesh.h"
 #include "msm_sim/core/triangle_mesh.h"
 
 namespace msm_sim::core {
@@ -17,9 +18,10 @@ struct MeshImportOptions {
   /// Multiplies every coordinate: 0.001 for a file in millimetres, 0.01 for centimetres.
   double scale = 1.0;
   /// Refuse meshes whose largest bounding-box edge (after scaling) is outside this range (m):
-  /// almost always a unit mistake.
+  /// for objects a robot handles that is almost always a unit mistake (a 100 mm part in a file
+  /// in millimetres reads as 100 m).
   double min_extent = 1e-4;
-  double max_extent = 1e3;
+  double max_extent = 10.0;
   /// Vertices closer than this fraction of the bounding-box diagonal are merged, so that STL
   /// files (one vertex per triangle corner) share their edges.
   double weld_tolerance = 1e-7;
@@ -42,5 +44,9 @@ struct ImportedMesh {
 /// without triangles, non-finite coordinates, or an absurd size; never crashes on a malformed
 /// file that assimp itself survives. Precondition-free: bad options are reported the same way.
 ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions& options = {});
+
+/// ImportTriangleMesh, then the closed solid it bounds (to build a model from). Everything wrong
+/// with the file, including an open or non-manifold surface, is a MeshImportError naming it.
+SolidMesh ImportSolidMesh(const std::string& path, const MeshImportOptions& options = {});
 
 }  // namespace msm_sim::core

@@ -12,15 +12,15 @@ namespace msm_sim::core {
 /// A node-centred cubic lattice filling the body bounded by a closed mesh.
 struct MeshCubicLatticeOptions {
   double spacing = 0.1;  ///< lattice spacing a (m), > 0 and <= the smallest bounding-box edge
-  /// Lattice orientation in the mesh frame; one cell centre sits at the bounding-box centre.
+  /// Lattice orientation in the mesh frame. The lattice is centred on the bounding box: a cell
+  /// centre on its middle along axes with an odd number of cells across, cell faces along axes
+  /// with an even number, so that an aligned box of whole cells is tiled exactly.
   Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
   double rotation_angle = 0.0;  ///< rad
   /// SPEC.md §5 anti-aliasing: each cell's mass and springs scale with the fraction chi of its
-  /// volume inside the surface. Off: a cell is a full node if its centre is inside, else nothing.
+  /// volume inside the surface, computed by exact clipping (VolumeInsideBox). Off: a cell is a
+  /// full node if its centre is inside, else nothing.
   bool antialias = true;
-  /// Anti-aliasing estimates chi of cells crossed by the surface from samples x samples x
-  /// samples stratified points (the others are wholly in or out); 6 gives chi to ~1/216.
-  int antialias_samples = 6;
   /// Cells with chi below this are dropped (thesis: 0.1): arbitrarily light nodes and weak
   /// springs would force a tiny time step.
   double min_fraction = 0.1;
@@ -36,7 +36,7 @@ struct MeshCubicLatticeOptions {
 /// a^3 sum chi (about the mesh volume, less the dropped slivers).
 ///
 /// Throws std::invalid_argument for a non-positive or non-finite spacing, a spacing larger than
-/// the smallest bounding-box edge, samples outside 1..16, min_fraction outside [0, 1), a bad
+/// the smallest bounding-box edge, min_fraction outside [0, 1), a bad
 /// rotation, no cell inside, or more than max_nodes nodes.
 Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options);
