@@ -72,7 +72,8 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
   }
   // A dropped sliver's volume goes to the kept cells around it (26-neighbourhood, in proportion
   // to their fractions), so the model keeps the body's mass: without this a sphere of radius 1
-  // at a = 1/2 lost 4 % of it. A border cell may end up with chi > 1.
+  // at a = 1/2 loses 0.4 to 3.6 % of it, depending on how the lattice falls. A border cell may end
+  // up with chi > 1.
   std::vector<double> absorbed(fraction.size(), 0.0);
   const auto kept = [&](double chi) { return chi > 0.0 && chi >= options.min_fraction; };
   const auto inside_range = [&](const Eigen::Vector3i& c) {

@@ -179,6 +179,19 @@ TEST(MeshImport, ReadsAClosedMeshWithScaleAndWelding) {
               1e-15);
 }
 
+TEST(MeshImport, MergesEveryInstanceWithItsNodeTransform) {
+  // glTF: one tetrahedron instanced by two nodes, the second translated by 2 m along x.
+  const ImportedMesh imported = ImportTriangleMesh(kMeshDir + "two_tetrahedra.gltf");
+  EXPECT_EQ(imported.mesh.num_triangles(), 8);
+  Eigen::Vector3d lo, hi;
+  BoundingBox(imported.mesh, &lo, &hi);
+  EXPECT_NEAR(hi.x() - lo.x(), 3.0, 1e-6);
+  const SolidMesh solid(imported.mesh);
+  EXPECT_NEAR(solid.volume(), 2.0 / 6.0, 1e-6);
+  EXPECT_TRUE(solid.Contains(Eigen::Vector3d(2.1, 0.1, 0.1)));
+  EXPECT_FALSE(solid.Contains(Eigen::Vector3d(1.5, 0.1, 0.1)));
+}
+
 TEST(MeshImport, OpenSurfaceImportsButIsNoSolid) {
   const ImportedMesh imported = ImportTriangleMesh(kMeshDir + "open_box.obj");
   EXPECT_EQ(imported.topology.boundary_edges, 4);

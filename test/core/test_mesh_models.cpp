@@ -120,6 +120,43 @@ TEST(MeshModels, CubicFromAMeshMatchesAnyPoissonRatio) {
   }
 }
 
+TEST(MeshModels, SpringLawReachesMeshBuiltModels) {
+  const SolidMesh sphere(MakeIcosphereMesh(1.0, 3));
+  const Material material = Material::FromYoungsPoisson(1e5, 0.45, 1000.0);
+  MeshCubicLatticeOptions cubic;
+  cubic.spacing = 0.25;
+  cubic.spring_law = SpringLaw::kNonlinear;
+  const Model cubic_model = BuildCubicLatticeInSolid(material, sphere, cubic);
+  EXPECT_EQ(cubic_model.spring_law(), SpringLaw::kNonlinear);
+  EXPECT_GT(cubic_model.dispersion_fraction(), 0.0);
+  RandomLatticeOptions random;
+  random.spacing = 0.25;
+  random.spring_law = SpringLaw::kNonlinear;
+  const Model random_model = BuildRandomLatticeInSolid(material, sphere, random);
+  EXPECT_EQ(random_model.spring_law(), SpringLaw::kNonlinear);
+  EXPECT_GT(random_model.dispersion_fraction(), 0.0);
+}
+
+// No spring of a random model bridges the notch of a concave body: a torus's hole.
+TEST(MeshModels, RandomSpringsDoNotCrossTheSurface) {
+  const SolidMesh torus(MakeTorusMesh(1.0, 0.35, 64, 24));
+  RandomLatticeOptions options;
+  options.spacing = 0.15;
+  options.max_distance = 1.9;
+  const Model model =
+      BuildRandomLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), torus, options);
+  int checked = 0;
+  for (int s = 0; s < model.num_springs(); ++s) {
+    const Eigen::Vector3d a = model.rest_positions().col(model.spring_node_a()[s]);
+    const Eigen::Vector3d b = model.rest_positions().col(model.spring_node_b()[s]);
+    ASSERT_TRUE(torus.Contains(a) && torus.Contains(b));
+    ASSERT_FALSE(torus.SegmentCrossesSurface(a, b)) << "spring " << s;
+    ++checked;
+  }
+  EXPECT_GT(checked, 1000);
+  EXPECT_NEAR(model.masses().sum() / (1000.0 * torus.volume()), 1.0, 1e-12);
+}
+
 TEST(MeshModels, RandomFromAMeshMatchesAnyPoissonRatio) {
   const Eigen::Vector3d size(3.0, 1.0, 1.0);
   const SolidMesh box = BoxSolid(size);
