@@ -74,10 +74,21 @@ inline double Separation(const double* __restrict x, int a, int b, double r[3]) 
   return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
 }
 
+// The dashpot's tension beta k (v_b - v_a) . r / L (positive when the spring lengthens).
+inline double DampingTension(const ForceEvaluator::Damping& damping, const SpringArrays& springs,
+                             int s, const double r[3], double length) {
+  const double* __restrict v = damping.velocities;
+  const int a = springs.a[s], b = springs.b[s];
+  double rate = 0.0;
+  for (int i = 0; i < 3; ++i) rate += (v[3 * b + i] - v[3 * a + i]) * r[i];
+  return damping.beta * springs.k[s] * rate / length;
+}
+
 }  // namespace
 
-template <SpringLaw Law>
-void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+template <SpringLaw Law, bool Damped>
+void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                               Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   double* __restrict f = forces->data();
@@ -85,7 +96,8 @@ void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3
   for (int s = 0; s < model_->num_springs(); ++s) {
     double r[3];
     const double length = Separation(x, springs.a[s], springs.b[s], r);
-    const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+    double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+    if constexpr (Damped) t += DampingTension(damping, springs, s, r, length);
     total[s] = t;
     ApplyPair(f, springs.a[s], springs.b[s], t / length, r);
   }
@@ -112,7 +124,9 @@ void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
   }
 }
 
-void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+template <bool Damped>
+void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                 Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict g = dispersion_per_weight_.data();
@@ -125,17 +139,19 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matri
   for (int s = 0; s < model_->num_springs(); ++s) {
     const int a = springs.a[s];
     const int b = springs.b[s];
-    const double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
-    total[s] = t;
+    double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
     // Recomputing r from positions still in cache is cheaper than streaming stored directions.
     double r[3];
     for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
+    if constexpr (Damped) t += DampingTension(damping, springs, s, r, 1.0 / inverse_lengths[s]);
+    total[s] = t;
     ApplyPair(f, a, b, t * inverse_lengths[s], r);
   }
 }
 
-template <SpringLaw Law>
-void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+template <SpringLaw Law, bool Damped>
+void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict g = dispersion_per_weight_.data();  // of the previous evaluation
@@ -155,7 +171,8 @@ void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix
     const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
     accumulator[a] += inflow_a[s] * t;
     accumulator[b] += inflow_b[s] * t;
-    const double t_total = t + outflow_a[s] * g[a] + outflow_b[s] * g[b];
+    double t_total = t + outflow_a[s] * g[a] + outflow_b[s] * g[b];
+    if constexpr (Damped) t_total += DampingTension(damping, springs, s, r, length);
     total[s] = t_total;
     ApplyPair(f, a, b, t_total / length, r);
   }
@@ -187,16 +204,32 @@ void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Ma
 }
 
 void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+  Accumulate<false>(positions, Damping{}, forces);
+}
+
+void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions,
+                                      const Eigen::Matrix3Xd& velocities, double damping_beta,
+                                      Eigen::Matrix3Xd* forces) {
+  if (damping_beta == 0.0) {
+    Accumulate<false>(positions, Damping{}, forces);
+  } else {
+    Accumulate<true>(positions, Damping{velocities.data(), damping_beta}, forces);
+  }
+}
+
+template <bool Damped>
+void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                Eigen::Matrix3Xd* forces) {
   const bool linear = model_->spring_law() == SpringLaw::kLinear;
   if (model_->dispersion_fraction() == 0.0) {
-    linear ? PlainPass<SpringLaw::kLinear>(positions, forces)
-           : PlainPass<SpringLaw::kNonlinear>(positions, forces);
+    linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
+           : PlainPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
     if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
     return;
   }
   if (passes_ == DispersionPasses::kOnePass && has_previous_dispersion_) {
-    linear ? LaggedPass<SpringLaw::kLinear>(positions, forces)
-           : LaggedPass<SpringLaw::kNonlinear>(positions, forces);
+    linear ? LaggedPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
+           : LaggedPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
     dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);  // for next time
   } else {
     // Two passes: the direct tensions fill the accumulators, then every spring applies its
@@ -204,7 +237,7 @@ void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::
     linear ? InflowPass<SpringLaw::kLinear>(positions)
            : InflowPass<SpringLaw::kNonlinear>(positions);
     dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
-    OutflowPass(positions, forces);
+    OutflowPass<Damped>(positions, damping, forces);
   }
   has_previous_dispersion_ = true;
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);

@@ -32,6 +32,11 @@ class ForceEvaluator {
 
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  /// The same plus spring dampers (SPEC.md §7): every spring also carries the tension
+  /// c (v_b - v_a) . u with c = damping_beta k (s), u the unit vector a -> b; it is part of
+  /// total_tensions. Precondition: velocities is 3 x N, damping_beta >= 0.
+  void AccumulateForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
+                        double damping_beta, Eigen::Matrix3Xd* forces);
 
   /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
   /// Phi = sum_x J_x^2 / (2 q W_x). Phi is exact for linear springs; with the carrier law the
@@ -60,14 +65,27 @@ class ForceEvaluator {
 
   const Model& model() const { return *model_; }
 
+  /// Dashpot parameters handed to the force loops (internal).
+  struct Damping {
+    const double* velocities = nullptr;  // 3 x N, column-major
+    double beta = 0.0;                   // s
+  };
+
  private:
-  template <SpringLaw Law>
-  void PlainPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  template <bool Damped>
+  void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                  Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law, bool Damped>
+  void PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                 Eigen::Matrix3Xd* forces);
   template <SpringLaw Law>
   void InflowPass(const Eigen::Matrix3Xd& positions);
-  void OutflowPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
-  template <SpringLaw Law>
-  void LaggedPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  template <bool Damped>
+  void OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                   Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law, bool Damped>
+  void LaggedPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                  Eigen::Matrix3Xd* forces);
   void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   template <SpringLaw Law>
