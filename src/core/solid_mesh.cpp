@@ -129,6 +129,12 @@ bool SolidMesh::SegmentCrossesSurface(const Eigen::Vector3d& a, const Eigen::Vec
   return impl_->tree.do_intersect(Kernel::Segment_3(ToPoint(a), ToPoint(b)));
 }
 
+Eigen::Vector3d SolidMesh::ClosestPoint(const Eigen::Vector3d& p, int* triangle) const {
+  const auto [point, face] = impl_->tree.closest_point_and_primitive(ToPoint(p));
+  if (triangle != nullptr) *triangle = static_cast<int>(face.idx());
+  return Eigen::Vector3d(point.x(), point.y(), point.z());
+}
+
 std::vector<int> SolidMesh::TrianglesTouchingBox(const Eigen::Vector3d& lo,
                                                  const Eigen::Vector3d& hi) const {
   std::vector<Primitive::Id> faces_hit;

@@ -42,6 +42,8 @@ class SolidMesh {
   bool BoxTouchesSurface(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
   /// True if the segment [a, b] intersects the surface.
   bool SegmentCrossesSurface(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
+  /// The surface point closest to p; *triangle (optional) receives its triangle's index.
+  Eigen::Vector3d ClosestPoint(const Eigen::Vector3d& p, int* triangle) const;
   /// Indices (into surface().triangles) of the triangles intersecting the box [lo, hi].
   std::vector<int> TrianglesTouchingBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const;
 
