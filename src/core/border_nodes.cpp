@@ -13,8 +13,8 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance) {
     const int count = model.num_incident_springs(i);
     for (int k = model.incidence_offsets()[i]; k < model.incidence_offsets()[i + 1]; ++k) {
       const SpringIndex s = model.incident_springs()[k];
-      const NodeIndex j = model.spring_node_a()[s] == i ? model.spring_node_b()[s]
-                                                        : model.spring_node_a()[s];
+      const NodeIndex j =
+          model.spring_node_a()[s] == i ? model.spring_node_b()[s] : model.spring_node_a()[s];
       sum += (x.col(j) - x.col(i)) / model.spring_rest_length()[s];
       half_lengths += 0.5 * model.spring_rest_length()[s];
     }

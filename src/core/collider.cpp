@@ -151,8 +151,8 @@ double ColliderShape::SignedDistance(const Eigen::Vector3d& p, Eigen::Vector3d* 
       const double distance = away.norm();
       // Off an edge or vertex the direction to the closest point is the normal; on a face (or
       // too close to tell) the face's.
-      *normal = distance > 1e-12 ? Eigen::Vector3d((inside ? -away : away) / distance)
-                                 : face_normal;
+      *normal =
+          distance > 1e-12 ? Eigen::Vector3d((inside ? -away : away) / distance) : face_normal;
       return inside ? -distance : distance;
     }
   }

@@ -5,7 +5,8 @@
 namespace msm_sim::lab {
 namespace {
 
-constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build"};
+constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
+                                     "slide"};
 
 // Which body a command accepts and which options it insists on.
 enum class Body {
@@ -132,11 +133,29 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   build->add_option("--vtk", arguments.vtk, "write the model at rest to this .vtu file");
   build->add_flag("--json", arguments.json, "print one JSON object");
 
+  CLI::App* slide = app.add_subcommand(
+      "slide", "a box of NX x NY x NZ nodes slides on the ground from v0 along +x (thesis 6.4)");
+  std::vector<int> slide_nodes;
+  std::vector<double> slide_size;
+  slide->add_option("--nodes", slide_nodes, "nodes along x, y, z (element-corner lattice)")
+      ->expected(3)
+      ->required()
+      ->check(CLI::Range(2, 1000));
+  slide->add_option("--size", slide_size, "box size LX LY LZ (m)")->expected(3)->required();
+  slide->add_option("--mass", arguments.slide.mass, "total mass (kg)")->required();
+  slide->add_option("--v0", arguments.slide.v0, "initial speed along +x (m/s)")->required();
+  slide->add_option("--mu", arguments.slide.mu, "Coulomb friction with the ground")->required();
+  slide->add_option("--youngs", arguments.slide.youngs, "Young's modulus E (Pa)")
+      ->capture_default_str();
+  slide->add_option("--poisson", arguments.slide.poisson, "Poisson's ratio nu")
+      ->capture_default_str();
+  slide->add_flag("--json", arguments.json, "print one JSON object");
+
   ParseOutcome outcome;
   if (argv.size() > 1 && !argv[1].empty() && argv[1][0] != '-' &&
       std::find(std::begin(kCommands), std::end(kCommands), argv[1]) == std::end(kCommands)) {
     outcome.message = "unknown command '" + argv[1] +
-                      "' (expected compression, deflection, poisson-sweep or build)";
+                      "' (expected compression, deflection, poisson-sweep, build or slide)";
     outcome.exit_code = 2;
     return outcome;
   }
@@ -162,6 +181,13 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   if (compression->parsed() && size.empty() && arguments.model.mesh.empty()) {
     outcome.message = "compression needs --size LX LY LZ or --mesh FILE";
     outcome.exit_code = 2;
+    return outcome;
+  }
+  if (slide->parsed()) {
+    arguments.command = LabCommand::kSlide;
+    arguments.slide.nodes = Eigen::Vector3i(slide_nodes[0], slide_nodes[1], slide_nodes[2]);
+    arguments.slide.size = Eigen::Vector3d(slide_size[0], slide_size[1], slide_size[2]);
+    outcome.arguments = arguments;
     return outcome;
   }
   if (compression->parsed()) {

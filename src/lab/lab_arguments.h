@@ -31,7 +31,18 @@ struct ModelArguments {
   int target_nodes = 0;   ///< > 0: choose the spacing for about this many nodes
 };
 
-enum class LabCommand { kCompression, kDeflection, kPoissonSweep, kBuild };
+enum class LabCommand { kCompression, kDeflection, kPoissonSweep, kBuild, kSlide };
+
+/// `msm_lab slide`: a box of nodes sliding to a stop on the ground (thesis 6.4).
+struct SlideArguments {
+  Eigen::Vector3i nodes = Eigen::Vector3i::Zero();  ///< NX NY NZ, each >= 2
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();   ///< m
+  double mass = 0.0;                                ///< kg
+  double v0 = 0.0;                                  ///< m/s along +x
+  double mu = 0.0;                                  ///< Coulomb coefficient with the ground
+  double youngs = 1e5;                              ///< Pa
+  double poisson = 0.25;
+};
 
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
@@ -42,6 +53,7 @@ struct LabArguments {
   std::string plot;  ///< poisson-sweep: PNG to write, empty for none
   std::string out;   ///< build: model file to write, empty for none
   std::string vtk;   ///< build: .vtu file to write, empty for none
+  SlideArguments slide;
   bool json = false;
 };
 

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,6 +19,7 @@
 #include "msm_sim/core/model_file.h"
 #include "msm_sim/core/model_statistics.h"
 #include "msm_sim/core/random_lattice_builder.h"
+#include "msm_sim/core/slide_test.h"
 #include "msm_sim/core/spring_law.h"
 #include "msm_sim/core/state.h"
 #include "msm_sim/core/vtk_export.h"
@@ -296,6 +298,71 @@ int RunBuild(const LabArguments& arguments, std::ostream& out) {
   return 0;
 }
 
+// The box of the slide experiment: an element-corner lattice (nodes on the box's corners and
+// faces) whose node counts and size must agree on one spacing.
+core::Model SlideBox(const SlideArguments& slide) {
+  if (!slide.size.allFinite() || (slide.size.array() <= 0.0).any()) {
+    throw std::invalid_argument("slide box size must be finite and > 0");
+  }
+  if (!(slide.mass > 0.0) || !std::isfinite(slide.mass)) {
+    throw std::invalid_argument("slide mass must be finite and > 0");
+  }
+  const Eigen::Vector3d spacing = slide.size.array() / (slide.nodes.cast<double>().array() - 1.0);
+  if ((spacing.array() - spacing.x()).abs().maxCoeff() > 1e-6 * spacing.x()) {
+    std::ostringstream message;
+    message << "--nodes and --size give spacings " << spacing.x() << ", " << spacing.y() << ", "
+            << spacing.z() << " m; the lattice is cubic, so size / (nodes - 1) must agree";
+    throw std::invalid_argument(message.str());
+  }
+  core::CubicLatticeOptions options;
+  options.size = slide.size;
+  options.spacing = spacing.x();
+  options.construction = core::CubicConstruction::kElementCorner;
+  return core::BuildCubicLattice(core::Material::FromYoungsPoisson(slide.youngs, slide.poisson,
+                                                                   slide.mass / slide.size.prod()),
+                                 options);
+}
+
+int RunSlide(const LabArguments& arguments, std::ostream& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const SlideArguments& slide = arguments.slide;
+  const auto model = std::make_shared<const core::Model>(SlideBox(slide));
+  core::SlideTestOptions options;
+  options.initial_speed = slide.v0;
+  options.friction = slide.mu;
+  if (!(slide.v0 > 0.0) || !(slide.mu > 0.0) || !std::isfinite(slide.v0 + slide.mu)) {
+    throw std::invalid_argument("--v0 and --mu must be finite and > 0");
+  }
+  const core::SlideTestResult result = core::RunSlideTest(model, options);
+  const double seconds = Seconds(start);
+  if (arguments.json) {
+    Json json{{"command", "slide"},
+              {"nodes", model->num_nodes()},
+              {"mass", model->masses().sum()},
+              {"v0", slide.v0},
+              {"mu", slide.mu},
+              {"distance", result.distance},
+              {"theory_distance", result.theory_distance},
+              {"relative_error", result.distance / result.theory_distance - 1.0},
+              {"seconds_simulated", result.seconds_simulated},
+              {"stopped", result.stopped},
+              {"steps", result.steps},
+              {"seconds", seconds}};
+    out << json.dump() << "\n";
+    return 0;
+  }
+  out << "slide: " << slide.nodes.x() << " x " << slide.nodes.y() << " x " << slide.nodes.z()
+      << " nodes, " << model->masses().sum() << " kg, v0 " << slide.v0 << " m/s, mu " << slide.mu
+      << "\n"
+      << std::setprecision(5) << "distance          " << result.distance << " m\n"
+      << "theory v0^2/2mug  " << result.theory_distance << " m ("
+      << 100.0 * (result.distance / result.theory_distance - 1.0) << " %)\n"
+      << "simulated         " << result.seconds_simulated << " s"
+      << (result.stopped ? "" : " (did not stop)") << "\n"
+      << "time: " << seconds << " s\n";
+  return 0;
+}
+
 }  // namespace
 
 LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin) {
@@ -405,6 +472,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunPoissonSweep(arguments, out, err);
     case LabCommand::kBuild:
       return RunBuild(arguments, out);
+    case LabCommand::kSlide:
+      return RunSlide(arguments, out);
   }
   return 1;
 }

@@ -3,10 +3,10 @@
 // steps.
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <string>
 #include <cstdio>
+#include <limits>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -16,8 +16,8 @@
 #include "msm_sim/core/mesh_lattice_builder.h"
 #include "msm_sim/core/mesh_primitives.h"
 #include "msm_sim/core/model_builder.h"
-#include "msm_sim/core/solid_mesh.h"
 #include "msm_sim/core/slide_test.h"
+#include "msm_sim/core/solid_mesh.h"
 #include "msm_sim/core/world.h"
 
 namespace msm_sim::core {
@@ -40,9 +40,9 @@ TEST(Sliding, StoppingDistanceIsIndependentOfResolutionShapeAndMass) {
   const SolidMesh cylinder_mesh(MakeCylinderMesh(0.4, 0.4, 64));
   MeshCubicLatticeOptions cylinder_lattice;
   cylinder_lattice.spacing = 0.1;
-  const auto cylinder = std::make_shared<Model>(BuildCubicLatticeInSolid(
-      Material::FromYoungsPoisson(1e5, 0.3, 3.0 / cylinder_mesh.volume()), cylinder_mesh,
-      cylinder_lattice));
+  const auto cylinder = std::make_shared<Model>(
+      BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.3, 3.0 / cylinder_mesh.volume()),
+                               cylinder_mesh, cylinder_lattice));
   const std::vector<std::shared_ptr<const Model>> bodies = {SlidingBox(2, 1.0), SlidingBox(3, 1.0),
                                                             SlidingBox(5, 1.0), cylinder};
   struct Case {
@@ -56,10 +56,11 @@ TEST(Sliding, StoppingDistanceIsIndependentOfResolutionShapeAndMass) {
       options.friction = c.mu;
       const SlideTestResult r = RunSlideTest(body, options);
       EXPECT_TRUE(r.stopped);
-      std::printf("  v0 %.1f m/s, mu %.1f: %5d nodes, %6.3f kg: distance %.4f m, theory %.4f m "
-                  "(%+.2f %%)\n",
-                  c.v0, c.mu, body->num_nodes(), body->masses().sum(), r.distance,
-                  r.theory_distance, 100 * (r.distance / r.theory_distance - 1));
+      std::printf(
+          "  v0 %.1f m/s, mu %.1f: %5d nodes, %6.3f kg: distance %.4f m, theory %.4f m "
+          "(%+.2f %%)\n",
+          c.v0, c.mu, body->num_nodes(), body->masses().sum(), r.distance, r.theory_distance,
+          100 * (r.distance / r.theory_distance - 1));
       EXPECT_NEAR(r.distance / r.theory_distance, 1.0, 0.05);
       distances.push_back(r.distance);
     }
@@ -159,9 +160,10 @@ TEST(Contacts, NodeInAThirtyDegreeWedgeNeverPenetrates) {
     closest = std::min({closest, n1.dot(x), n2.dot(x)});
     touching_both += n1.dot(x) < radius && n2.dot(x) < radius;
   }
-  std::printf("  closest approach of the node's centre to a wall: %.4f m (sphere radius %.4f m); "
-              "%d steps touching both walls\n",
-              closest, radius, touching_both);
+  std::printf(
+      "  closest approach of the node's centre to a wall: %.4f m (sphere radius %.4f m); "
+      "%d steps touching both walls\n",
+      closest, radius, touching_both);
   EXPECT_GT(touching_both, 100);
   // The overlap never exceeds what one substep of travel can add before detection.
   EXPECT_GT(closest, 0.5 * radius);
@@ -216,9 +218,10 @@ TEST(Contacts, TwoStackedBlocksSettleWithoutInterpenetration) {
   }
   const double top_height = world.state(top).positions.row(2).mean();
   const double bottom_height = world.state(bottom).positions.row(2).mean();
-  std::printf("  closest pair of collision spheres: %.3f of the touching distance; block centres "
-              "%.4f m apart vertically\n",
-              closest, top_height - bottom_height);
+  std::printf(
+      "  closest pair of collision spheres: %.3f of the touching distance; block centres "
+      "%.4f m apart vertically\n",
+      closest, top_height - bottom_height);
   EXPECT_GT(closest, 0.9);
   EXPECT_NEAR(top_height - bottom_height, 0.2 + 2.0 * a.radii[0] - 0.04, 0.01);
   for (const int body : {bottom, top}) {
@@ -248,10 +251,11 @@ TEST(Contacts, RestingBlockLoadsTheGroundWithItsWeightThroughItsCentreOfMass) {
   }
   const double weight = block->masses().sum() * 9.81;
   const Eigen::Vector3d com = world.state(body).positions * block->masses() / block->masses().sum();
-  std::printf("  ground force (%.3f, %.3f, %.3f) N against weight %.3f N; torque (%.4f, %.4f) N m, "
-              "expected (%.4f, %.4f)\n",
-              force.x(), force.y(), force.z(), weight, torque.x(), torque.y(),
-              com.cross(force).x(), com.cross(force).y());
+  std::printf(
+      "  ground force (%.3f, %.3f, %.3f) N against weight %.3f N; torque (%.4f, %.4f) N m, "
+      "expected (%.4f, %.4f)\n",
+      force.x(), force.y(), force.z(), weight, torque.x(), torque.y(), com.cross(force).x(),
+      com.cross(force).y());
   EXPECT_NEAR(-force.z() / weight, 1.0, 0.01);
   EXPECT_LT(force.head<2>().norm(), 0.01 * weight);
   // The ground's reaction acts under the centre of mass: tau = com x F about the ground origin.
@@ -278,8 +282,8 @@ TEST(Contacts, PressedSphereForceGrowsWithIndentationAndFrictionIsBounded) {
   // Touching the top nodes' spheres, moving down at 2 cm/s.
   double top = 0.0;
   for (std::size_t k = 0; k < world.border(body).nodes.size(); ++k) {
-    top = std::max(top, block->rest_positions()(2, world.border(body).nodes[k]) +
-                            world.border(body).radii[k]);
+    top = std::max(
+        top, block->rest_positions()(2, world.border(body).nodes[k]) + world.border(body).radii[k]);
   }
   sphere.pose.translation() = Eigen::Vector3d(0.1, 0.1, top + 0.04);
   sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.02);

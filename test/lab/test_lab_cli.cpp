@@ -203,7 +203,13 @@ INSTANTIATE_TEST_SUITE_P(
                  2, "boxes only"},
         BadInput{"build --mesh " MSM_SIM_TEST_DATA_DIR "/meshes/tetrahedron.off --model cubic "
                  "--spacing 0.1 --youngs 1e5 --poisson 0.3 --out /nonexistent/dir/m.msm",
-                 1, "m.msm"}));
+                 1, "m.msm"},
+        // Dynamics (issue "Dynamics").
+        BadInput{"slide --nodes 9 4 5 --size 2 1 1 --mass 1 --v0 1 --mu 0.5", 2, "spacings"},
+        BadInput{"slide --nodes 9 5 5 --size 2 1 1 --mass 1 --v0 1 --mu -0.5", 2, "--mu"},
+        BadInput{"slide --nodes 9 5 5 --size 2 1 1 --mass 0 --v0 1 --mu 0.5", 2, "mass"},
+        BadInput{"slide --nodes 1 5 5 --size 2 1 1 --mass 1 --v0 1 --mu 0.5", 2, "nodes"},
+        BadInput{"slide --nodes 9 5 5 --size 2 1 1 --mass 1 --v0 1", 2, "--mu"}));
 
 TEST(LabCli, AnyPoissonRatioWithEitherSpringLawAndDispersion) {
   const std::string base =
@@ -282,6 +288,23 @@ TEST(LabArguments, ParsesTheFullCompressionContract) {
   EXPECT_DOUBLE_EQ(a.model.min_dist, 0.85);
   EXPECT_DOUBLE_EQ(a.model.max_dist, 1.6);
   EXPECT_TRUE(a.json);
+}
+
+// --- Dynamics (issue "Dynamics") -------------------------------------------------------------
+
+TEST(LabCliSlide, JsonReportsDistanceAgainstTheory) {
+  const LabRun run = RunLab("slide --nodes 5 3 3 --size 2 1 1 --mass 2 --v0 1.5 --mu 0.4 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  for (const char* key : {"distance", "theory_distance", "seconds_simulated"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  EXPECT_NEAR(json["theory_distance"].get<double>(), 1.5 * 1.5 / (2 * 0.4 * 9.81), 1e-12);
+  EXPECT_NEAR(json["distance"].get<double>() / json["theory_distance"].get<double>(), 1.0, 0.05);
+  EXPECT_TRUE(json["stopped"].get<bool>());
+  const LabRun table = RunLab("slide --nodes 3 2 2 --size 2 1 1 --mass 1 --v0 1 --mu 0.5");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("theory"), std::string::npos);
 }
 
 // --- Mesh input (issue "Any mesh in") ------------------------------------------------------

@@ -53,7 +53,7 @@ class ColliderShape {
 struct Collider {
   std::string name;
   ColliderShape shape = ColliderShape::Plane();
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< shape frame in the world
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();      ///< shape frame in the world
   Eigen::Vector3d linear_velocity = Eigen::Vector3d::Zero();   ///< of the frame origin, world, m/s
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< world, rad/s
   double friction = 0.5;     ///< Coulomb coefficient of this surface (pairs combine, see World)

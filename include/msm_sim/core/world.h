@@ -164,6 +164,17 @@ class World {
              const Eigen::Vector3d& on_collider);
   };
   struct Body {
+    Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
+         const BodyOptions& body_options)
+        : name(body_name),
+          model(std::move(body_model)),
+          options(body_options),
+          state(State::AtRest(*model)),
+          evaluator(*model, body_options.dispersion),
+          border(FindBorderNodes(*model)),
+          constrained(model->num_nodes(), 0),
+          inverse_masses(model->masses().cwiseInverse()),
+          forces(Eigen::Matrix3Xd::Zero(3, model->num_nodes())) {}
     std::string name;
     std::shared_ptr<const Model> model;
     BodyOptions options;
@@ -177,6 +188,11 @@ class World {
     std::vector<double> pair_friction;  // per collider; < 0: default
     double stable_step = 0.0;
     double self_contact_rest_distance_sq = 0.0;  // m^2
+    Eigen::VectorXd inverse_masses;
+    double fastest_speed_sq = 0.0;  // during the current Step; infinite if anything is not finite
+    int fastest_node = 0;
+    Eigen::Matrix3Xd saved_positions, saved_velocities;  // to restore a rejected Step
+    std::vector<PendingResponse> saved_pending;
     Eigen::Matrix3Xd forces;
     std::vector<ImpulseSum> impulses;     // colliders, then groups (during a Step)
     std::vector<ContactWrench> wrenches;  // colliders, then groups (of the last Step)
