@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 #include "msm_sim/core/spatial_hash_grid.h"
 #include "msm_sim/core/stable_time_step.h"
@@ -114,11 +114,14 @@ int World::AddKinematicGroup(int body_index, const KinematicGroup& group) {
   Group added{group, Eigen::Matrix3Xd(3, group.nodes.size()), Eigen::Isometry3d::Identity()};
   const Eigen::Isometry3d pose = group.pose ? group.pose(time_) : added.initial_pose;
   Require(pose.matrix().allFinite(), "kinematic group '" + group.name + "': pose not finite");
+  // Check every index before changing anything.
+  for (const NodeIndex node : group.nodes) {
+    Require(node >= 0 && node < body.model->num_nodes(),
+            "kinematic group '" + group.name + "': no node " + std::to_string(node));
+  }
   const Eigen::Isometry3d inverse = pose.inverse();
   for (std::size_t k = 0; k < group.nodes.size(); ++k) {
     const NodeIndex node = group.nodes[k];
-    Require(node >= 0 && node < body.model->num_nodes(),
-            "kinematic group '" + group.name + "': no node " + std::to_string(node));
     added.local.col(k) = inverse * Eigen::Vector3d(body.state.positions.col(node));
     body.constrained[node] = 1;
     body.state.velocities.col(node).setZero();
@@ -297,11 +300,9 @@ StepReport World::Step(double dt) {
   }
   for (Body& body : bodies_) {
     // Pushes for "one step" are done; timed ones count down.
+    for (Push& push : body.pushes) push.remaining -= dt;
     body.pushes.erase(std::remove_if(body.pushes.begin(), body.pushes.end(),
-                                     [dt](Push& push) {
-                                       push.remaining -= dt;
-                                       return push.remaining <= 1e-12;
-                                     }),
+                                     [](const Push& push) { return push.remaining <= 1e-12; }),
                       body.pushes.end());
     body.wrenches.resize(body.impulses.size());
     for (std::size_t w = 0; w < body.impulses.size(); ++w) {

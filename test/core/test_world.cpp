@@ -12,6 +12,7 @@
 #include "msm_sim/core/force_evaluator.h"
 #include "msm_sim/core/mesh_primitives.h"
 #include "msm_sim/core/model_builder.h"
+#include "msm_sim/core/node_selection.h"
 #include "msm_sim/core/stable_time_step.h"
 #include "msm_sim/core/world.h"
 
@@ -139,10 +140,12 @@ TEST(World, ClampReactionBalancesAStaticPush) {
   options.damping_beta = 0.01;
   const auto block = Block();
   const int body = world.AddBody("block", block, options);
-  KinematicGroup clamp{"base", {}, {}};
-  for (NodeIndex i = 0; i < block->num_nodes(); ++i) {
-    if (block->rest_positions()(2, i) < 0.03) clamp.nodes.push_back(i);
-  }
+  // The bottom layer: the half-space below z = 3 cm (nodes at 2, 6, ... cm).
+  const KinematicGroup clamp{
+      "base", NodesInHalfSpace(*block, Eigen::Vector3d(0, 0, 0.03), Eigen::Vector3d::UnitZ()), {}};
+  ASSERT_EQ(clamp.nodes,
+            NodesInBox(*block, Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 0.03)));
+  ASSERT_EQ(clamp.nodes.size(), 25u);
   world.AddKinematicGroup(body, clamp);
   const Eigen::Vector3d push(3.0, 0.0, -20.0);
   world.ApplyForce(body, Eigen::Vector3d(0.1, 0.1, 0.18), push, 0.03, 10.0);
