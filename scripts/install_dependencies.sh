@@ -9,6 +9,10 @@ packages=(
   catkin python3-catkin-pkg ros-core-dev ros-message-generation ros-message-runtime
   libroscpp-dev librosbag-dev libtf2-dev libtf2-ros-dev
   libstd-msgs-dev libgeometry-msgs-dev ros-std-msgs ros-geometry-msgs
+  libsensor-msgs-dev libvisualization-msgs-dev libstd-srvs-dev libdiagnostic-msgs-dev
+  ros-sensor-msgs ros-visualization-msgs ros-std-srvs ros-diagnostic-msgs
+  python3-sensor-msgs python3-visualization-msgs python3-std-srvs python3-diagnostic-msgs
+  libtf2-geometry-msgs-dev libnodelet-dev libnodeletlib-dev pluginlib-dev
   python3-rostest librostest-dev python3-roslaunch
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
   libcli11-dev nlohmann-json3-dev python3-matplotlib

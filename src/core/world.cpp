@@ -65,15 +65,19 @@ World::World(const WorldOptions& options) : options_(options) {
   Require(options.contact_iterations >= 1, "contact iterations must be >= 1");
 }
 
-int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
-                   const BodyOptions& options) {
-  Require(model != nullptr, "body '" + name + "' has no model");
+static void ValidateBodyOptions(const std::string& name, const BodyOptions& options) {
   Require(options.damping_beta >= 0.0 && Finite(options.damping_beta),
           "body '" + name + "': damping must be finite and >= 0");
   Require(options.friction >= 0.0 && Finite(options.friction),
           "body '" + name + "': friction must be finite and >= 0");
   Require(options.restitution >= 0.0 && options.restitution <= 1.0,
           "body '" + name + "': restitution must lie in [0, 1]");
+}
+
+int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
+                   const BodyOptions& options) {
+  Require(model != nullptr, "body '" + name + "' has no model");
+  ValidateBodyOptions(name, options);
   Body body(name, model, options);
   const double longest = model->num_springs() > 0
                              ? *std::max_element(model->spring_rest_length().begin(),
@@ -134,12 +138,19 @@ int World::AddKinematicGroup(int body_index, const KinematicGroup& group) {
 
 void World::ApplyForce(int body_index, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
                        double radius, double duration) {
+  ApplyWrench(body_index, point, force, Eigen::Vector3d::Zero(), radius, duration);
+}
+
+void World::ApplyWrench(int body_index, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                        const Eigen::Vector3d& torque, double radius, double duration) {
   Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
-  Require(point.allFinite() && force.allFinite(), "force and point must be finite");
+  Require(point.allFinite() && force.allFinite() && torque.allFinite(),
+          "force, torque and point must be finite");
   Require(radius >= 0.0 && Finite(radius), "force radius must be finite and >= 0");
   Require(duration >= 0.0 && Finite(duration), "force duration must be finite and >= 0");
   const Body& body = bodies_[body_index];
   const Eigen::Matrix3Xd& x = body.state.positions;
+  const Eigen::VectorXd& m = body.model->masses();
   Push push{{}, {}, duration};
   NodeIndex nearest = 0;
   double nearest_distance = std::numeric_limits<double>::infinity();
@@ -152,17 +163,50 @@ void World::ApplyForce(int body_index, const Eigen::Vector3d& point, const Eigen
     }
     if (distance <= radius) {
       push.nodes.push_back(i);
-      total_mass += body.model->masses()[i];
+      total_mass += m[i];
     }
   }
   if (push.nodes.empty()) {
     push.nodes.push_back(nearest);
-    total_mass = body.model->masses()[nearest];
+    total_mass = m[nearest];
   }
+  double lever_sq = 0.0;
+  for (const NodeIndex i : push.nodes) lever_sq += (x.col(i) - point).squaredNorm();
   for (const NodeIndex i : push.nodes) {
-    push.forces.push_back(force * (body.model->masses()[i] / total_mass));
+    Eigen::Vector3d node_force = force * (m[i] / total_mass);
+    if (lever_sq > 0.0) node_force += torque.cross(x.col(i) - point) / lever_sq;
+    push.forces.push_back(node_force);
   }
   bodies_[body_index].pushes.push_back(std::move(push));
+}
+
+void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
+                         const BodyOptions& options) {
+  Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
+  Require(model != nullptr, "no model");
+  Body& old = bodies_[body_index];
+  ValidateBodyOptions(old.name, options);
+  Require(model->num_nodes() == old.model->num_nodes(),
+          "the new model has " + std::to_string(model->num_nodes()) + " nodes, the body " +
+              std::to_string(old.model->num_nodes()));
+  Body body(old.name, model, options);
+  body.state = old.state;
+  body.groups = old.groups;
+  body.constrained = old.constrained;
+  body.pushes = old.pushes;
+  body.pending = old.pending;
+  body.pair_friction = old.pair_friction;
+  body.wrenches = old.wrenches;
+  const double longest = model->num_springs() > 0
+                             ? *std::max_element(model->spring_rest_length().begin(),
+                                                 model->spring_rest_length().end())
+                             : model->characteristic_length();
+  body.self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
+  StableTimeStepOptions step;
+  step.damping_beta = options.damping_beta;
+  step.safety = options_.time_step_safety;
+  body.stable_step = StableTimeStep(*model, step);
+  bodies_[body_index] = std::move(body);
 }
 
 void World::SetPairFriction(int body, int collider, double friction) {

@@ -107,6 +107,14 @@ class World {
   /// non-finite values, a negative radius or duration, or an unknown body.
   void ApplyForce(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
                   double radius, double duration);
+  /// A wrench at `point`: the force as in ApplyForce, the torque (N m, world) as forces
+  /// tau x r_i / sum |r_j|^2 on the same nodes (r from the point), which sum to zero and whose
+  /// moment about the point is tau when the nodes surround it evenly. Throws as ApplyForce.
+  void ApplyWrench(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                   const Eigen::Vector3d& torque, double radius, double duration);
+  /// Swaps a body's model for one with the same nodes (a recalibrated material), keeping its
+  /// state, groups and pushes. Throws std::invalid_argument if the node counts differ.
+  void ReplaceModel(int body, std::shared_ptr<const Model> model, const BodyOptions& options);
   /// Coulomb coefficient for a body against a collider, overriding the default
   /// sqrt(mu_body mu_collider).
   void SetPairFriction(int body, int collider, double friction);

@@ -1,0 +1,33 @@
+#pragma once
+// Turns an object's configuration into a calibrated model in the world frame, its visual
+// surface and its clamps. Only the core library; kept in the node layer because it follows the
+// configuration's vocabulary.
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "msm_sim/core/material.h"
+#include "msm_sim/core/model.h"
+#include "msm_sim/core/triangle_mesh.h"
+#include "simulation_config.h"
+
+namespace msm_sim::node {
+
+struct BuiltObject {
+  std::shared_ptr<const core::Model> model;  ///< rest positions in the world frame
+  core::TriangleMesh surface;                ///< what the markers show, world frame at rest
+  /// Clamp names and the nodes each fixes.
+  std::vector<std::pair<std::string, std::vector<core::NodeIndex>>> clamps;
+};
+
+/// Builds the object. Throws ConfigError naming the object's parameters for anything that
+/// cannot be built (an unreadable or open mesh, a spacing that fits no node, an empty clamp).
+BuiltObject BuildObject(const ObjectConfig& config, const std::string& path);
+
+/// The model alone for another material (same nodes: ~set_material recalibrates in place).
+std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
+                                                    const core::Material& material);
+
+}  // namespace msm_sim::node

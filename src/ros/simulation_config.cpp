@@ -1,0 +1,307 @@
+#include "simulation_config.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <set>
+#include <sstream>
+
+#include <ros/package.h>
+#include <xmlrpcpp/XmlRpcValue.h>
+
+namespace msm_sim::node {
+namespace {
+
+using XmlRpc::XmlRpcValue;
+
+[[noreturn]] void Fail(const std::string& parameter, const std::string& problem) {
+  throw ConfigError("parameter " + parameter + ": " + problem);
+}
+
+bool Has(XmlRpcValue& value, const std::string& key) {
+  return value.getType() == XmlRpcValue::TypeStruct && value.hasMember(key);
+}
+
+double ToDouble(XmlRpcValue& value, const std::string& parameter) {
+  if (value.getType() == XmlRpcValue::TypeDouble) return static_cast<double>(value);
+  if (value.getType() == XmlRpcValue::TypeInt) return static_cast<int>(value);
+  if (value.getType() == XmlRpcValue::TypeString) {
+    // YAML 1.1 (PyYAML, rosparam) reads 1.0e5 without an exponent sign as text; take it.
+    const std::string text = static_cast<std::string>(value);
+    char* end = nullptr;
+    const double number = std::strtod(text.c_str(), &end);
+    if (!text.empty() && end == text.c_str() + text.size()) return number;
+    Fail(parameter, "expected a number, got '" + text + "'");
+  }
+  Fail(parameter, "expected a number");
+}
+
+double Number(XmlRpcValue& parent, const std::string& key, double fallback,
+              const std::string& path) {
+  if (!Has(parent, key)) return fallback;
+  const double value = ToDouble(parent[key], path + "/" + key);
+  if (!std::isfinite(value)) Fail(path + "/" + key, "must be finite");
+  return value;
+}
+
+double Positive(XmlRpcValue& parent, const std::string& key, double fallback,
+                const std::string& path) {
+  const double value = Number(parent, key, fallback, path);
+  if (!(value > 0.0)) Fail(path + "/" + key, "must be > 0 (got " + std::to_string(value) + ")");
+  return value;
+}
+
+double NonNegative(XmlRpcValue& parent, const std::string& key, double fallback,
+                   const std::string& path) {
+  const double value = Number(parent, key, fallback, path);
+  if (!(value >= 0.0)) Fail(path + "/" + key, "must be >= 0 (got " + std::to_string(value) + ")");
+  return value;
+}
+
+std::string Text(XmlRpcValue& parent, const std::string& key, const std::string& fallback,
+                 const std::string& path) {
+  if (!Has(parent, key)) return fallback;
+  if (parent[key].getType() != XmlRpcValue::TypeString) Fail(path + "/" + key, "expected text");
+  return static_cast<std::string>(parent[key]);
+}
+
+bool Flag(XmlRpcValue& parent, const std::string& key, bool fallback, const std::string& path) {
+  if (!Has(parent, key)) return fallback;
+  if (parent[key].getType() != XmlRpcValue::TypeBoolean) {
+    Fail(path + "/" + key, "expected true or false");
+  }
+  return static_cast<bool>(parent[key]);
+}
+
+Eigen::Vector3d Vector(XmlRpcValue& parent, const std::string& key, const Eigen::Vector3d& fallback,
+                       const std::string& path) {
+  if (!Has(parent, key)) return fallback;
+  XmlRpcValue& list = parent[key];
+  if (list.getType() != XmlRpcValue::TypeArray || list.size() != 3) {
+    Fail(path + "/" + key, "expected a list of 3 numbers");
+  }
+  Eigen::Vector3d v;
+  for (int i = 0; i < 3; ++i) v[i] = ToDouble(list[i], path + "/" + key);
+  if (!v.allFinite()) Fail(path + "/" + key, "must be finite");
+  return v;
+}
+
+void OneOf(const std::string& value, const std::set<std::string>& allowed,
+           const std::string& parameter) {
+  if (allowed.count(value) == 0) {
+    std::ostringstream list;
+    for (const std::string& a : allowed) list << (list.tellp() > 0 ? ", " : "") << a;
+    Fail(parameter, "'" + value + "' is not one of " + list.str());
+  }
+}
+
+WorldConfig ReadWorld(XmlRpcValue& world) {
+  const std::string path = "~world";
+  WorldConfig config;
+  config.frame = Text(world, "frame", config.frame, path);
+  if (config.frame.empty()) Fail(path + "/frame", "must not be empty");
+  config.gravity = Vector(world, "gravity", config.gravity, path);
+  if (Has(world, "ground")) {
+    XmlRpcValue& ground = world["ground"];
+    config.ground = Flag(ground, "enabled", true, path + "/ground");
+    config.ground_height = Number(ground, "height", 0.0, path + "/ground");
+    config.ground_friction = NonNegative(ground, "friction", 0.5, path + "/ground");
+  }
+  config.time_step = Positive(world, "time_step", config.time_step, path);
+  config.publish_rate = Positive(world, "publish_rate", config.publish_rate, path);
+  config.real_time = Flag(world, "real_time", config.real_time, path);
+  config.max_force = Positive(world, "max_force", config.max_force, path);
+  return config;
+}
+
+void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path,
+                  ObjectConfig* config) {
+  config->poisson = 0.25;
+  if (Has(object, "material")) {
+    const std::string name = Text(object, "material", "", path);
+    if (materials == nullptr || !Has(*materials, name)) {
+      Fail(path + "/material", "unknown material '" + name +
+                                   "' (load config/materials.yaml into ~materials, or give "
+                                   "youngs, poisson and density)");
+    }
+    XmlRpcValue& material = (*materials)[name];
+    const std::string material_path = "~materials/" + name;
+    config->youngs = Positive(material, "youngs", 0.0, material_path);
+    config->poisson = Number(material, "poisson", 0.25, material_path);
+    config->density = Positive(material, "density", 0.0, material_path);
+  }
+  // Explicit values override the named material.
+  if (Has(object, "youngs")) config->youngs = Positive(object, "youngs", 0.0, path);
+  if (Has(object, "poisson")) config->poisson = Number(object, "poisson", 0.25, path);
+  if (Has(object, "density")) config->density = Positive(object, "density", 0.0, path);
+  if (!(config->youngs > 0.0)) Fail(path + "/youngs", "missing (or give material)");
+  if (!(config->density > 0.0)) Fail(path + "/density", "missing (or give material)");
+  if (!(config->poisson > -1.0 && config->poisson < 0.5)) {
+    Fail(path + "/poisson", "must lie in (-1, 0.5), got " + std::to_string(config->poisson));
+  }
+}
+
+ShapeConfig ReadShape(XmlRpcValue& object, const std::string& path) {
+  if (!Has(object, "shape")) Fail(path + "/shape", "missing (box, sphere, cylinder or mesh)");
+  XmlRpcValue& shape = object["shape"];
+  const std::string shape_path = path + "/shape";
+  ShapeConfig config;
+  config.type = Text(shape, "type", "", shape_path);
+  OneOf(config.type, {"box", "sphere", "cylinder", "mesh"}, shape_path + "/type");
+  if (config.type == "box") {
+    config.size = Vector(shape, "size", Eigen::Vector3d::Zero(), shape_path);
+    if ((config.size.array() <= 0.0).any()) Fail(shape_path + "/size", "each must be > 0");
+  } else if (config.type == "sphere") {
+    config.radius = Positive(shape, "radius", 0.0, shape_path);
+  } else if (config.type == "cylinder") {
+    config.radius = Positive(shape, "radius", 0.0, shape_path);
+    config.length = Positive(shape, "length", 0.0, shape_path);
+  } else {
+    config.mesh_path = ResolveUri(Text(shape, "uri", "", shape_path), shape_path + "/uri");
+    config.scale = Positive(shape, "scale", 1.0, shape_path);
+  }
+  return config;
+}
+
+Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  if (!Has(object, "pose")) return pose;
+  XmlRpcValue& p = object["pose"];
+  pose.translation() = Vector(p, "position", Eigen::Vector3d::Zero(), path + "/pose");
+  const Eigen::Vector3d rpy = Vector(p, "rpy", Eigen::Vector3d::Zero(), path + "/pose");
+  pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+                   Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+                      .toRotationMatrix();
+  return pose;
+}
+
+ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
+  ClampConfig config;
+  config.name = Text(clamp, "name", "", path);
+  if (config.name.empty()) Fail(path + "/name", "missing");
+  if (Has(clamp, "box")) {
+    config.is_box = true;
+    config.min = Vector(clamp["box"], "min", Eigen::Vector3d::Zero(), path + "/box");
+    config.max = Vector(clamp["box"], "max", Eigen::Vector3d::Zero(), path + "/box");
+    if ((config.max.array() < config.min.array()).any()) Fail(path + "/box", "max < min");
+  } else if (Has(clamp, "half_space")) {
+    config.is_box = false;
+    config.point = Vector(clamp["half_space"], "point", Eigen::Vector3d::Zero(), path);
+    config.normal = Vector(clamp["half_space"], "normal", Eigen::Vector3d::UnitZ(), path);
+    if (config.normal.norm() == 0.0) Fail(path + "/half_space/normal", "must not be zero");
+  } else {
+    Fail(path, "needs a box {min, max} or a half_space {point, normal}");
+  }
+  return config;
+}
+
+ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path) {
+  ObjectConfig config;
+  config.name = Text(object, "name", "", path);
+  if (config.name.empty()) Fail(path + "/name", "missing");
+  config.shape = ReadShape(object, path);
+  config.pose = ReadPose(object, path);
+  config.model = Text(object, "model", config.model, path);
+  OneOf(config.model, {"cubic", "random", "baudet"}, path + "/model");
+  if (config.model == "baudet" && config.shape.type != "box") {
+    Fail(path + "/model", "baudet fills boxes only (shape type box)");
+  }
+  config.spacing = NonNegative(object, "spacing", 0.0, path);
+  config.target_nodes = static_cast<int>(NonNegative(object, "target_nodes", 0.0, path));
+  if ((config.spacing > 0.0) == (config.target_nodes > 0)) {
+    Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
+  }
+  config.spring = Text(object, "spring", config.spring, path);
+  OneOf(config.spring, {"linear", "nonlinear"}, path + "/spring");
+  config.antialias = Flag(object, "antialias", true, path);
+  config.seed = static_cast<std::uint64_t>(NonNegative(object, "seed", 1.0, path));
+  ReadMaterial(object, materials, path, &config);
+  config.damping = NonNegative(object, "damping", 2e-4, path);
+  config.friction = NonNegative(object, "friction", config.friction, path);
+  config.restitution = Number(object, "restitution", config.restitution, path);
+  if (config.restitution < 0.0 || config.restitution > 1.0) {
+    Fail(path + "/restitution", "must lie in [0, 1]");
+  }
+  if (Has(object, "clamps")) {
+    XmlRpcValue& clamps = object["clamps"];
+    if (clamps.getType() != XmlRpcValue::TypeArray) Fail(path + "/clamps", "expected a list");
+    for (int c = 0; c < clamps.size(); ++c) {
+      config.clamps.push_back(ReadClamp(clamps[c], path + "/clamps[" + std::to_string(c) + "]"));
+    }
+  }
+  if (Has(object, "visual_mesh")) {
+    config.visual_mesh_path =
+        ResolveUri(Text(object, "visual_mesh", "", path), path + "/visual_mesh");
+    config.visual_scale = Positive(object, "visual_scale", 1.0, path);
+  }
+  return config;
+}
+
+}  // namespace
+
+std::string ResolveUri(const std::string& uri, const std::string& parameter) {
+  if (uri.empty()) Fail(parameter, "missing");
+  const std::string package_prefix = "package://";
+  const std::string file_prefix = "file://";
+  if (uri.rfind(package_prefix, 0) == 0) {
+    const std::string rest = uri.substr(package_prefix.size());
+    const std::size_t slash = rest.find('/');
+    const std::string package = rest.substr(0, slash);
+    const std::string path = ros::package::getPath(package);
+    if (path.empty()) Fail(parameter, "unknown package '" + package + "' in " + uri);
+    return slash == std::string::npos ? path : path + rest.substr(slash);
+  }
+  if (uri.rfind(file_prefix, 0) == 0) return uri.substr(file_prefix.size());
+  return uri;
+}
+
+SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
+  SimulationConfig config;
+  XmlRpcValue world;
+  if (private_handle.getParam("world", world)) {
+    if (world.getType() != XmlRpcValue::TypeStruct) Fail("~world", "expected a dictionary");
+    config.world = ReadWorld(world);
+  }
+  XmlRpcValue materials;
+  const bool has_materials = private_handle.getParam("materials", materials) &&
+                             materials.getType() == XmlRpcValue::TypeStruct;
+  XmlRpcValue objects;
+  if (!private_handle.getParam("objects", objects) || objects.getType() != XmlRpcValue::TypeArray ||
+      objects.size() == 0) {
+    Fail("~objects", "missing: list at least one object (see config/default.yaml)");
+  }
+  std::set<std::string> names;
+  for (int i = 0; i < objects.size(); ++i) {
+    ObjectConfig object = ReadObject(objects[i], has_materials ? &materials : nullptr,
+                                     "~objects[" + std::to_string(i) + "]");
+    if (!names.insert(object.name).second) {
+      Fail("~objects[" + std::to_string(i) + "]/name", "duplicate name '" + object.name + "'");
+    }
+    config.objects.push_back(std::move(object));
+  }
+  XmlRpcValue inputs;
+  if (private_handle.getParam("wrench_inputs", inputs)) {
+    if (inputs.getType() != XmlRpcValue::TypeArray) Fail("~wrench_inputs", "expected a list");
+    for (int i = 0; i < inputs.size(); ++i) {
+      const std::string path = "~wrench_inputs[" + std::to_string(i) + "]";
+      WrenchInputConfig input;
+      input.topic = Text(inputs[i], "topic", "", path);
+      input.object = Text(inputs[i], "object", "", path);
+      input.radius = NonNegative(inputs[i], "radius", input.radius, path);
+      if (input.topic.empty()) Fail(path + "/topic", "missing");
+      if (names.count(input.object) == 0)
+        Fail(path + "/object", "no object '" + input.object + "'");
+      config.wrench_inputs.push_back(input);
+    }
+  }
+  XmlRpcValue markers;
+  if (private_handle.getParam("markers", markers)) {
+    config.markers.colour_by_strain = Flag(markers, "colour_by_strain", true, "~markers");
+    config.markers.strain_range = Positive(markers, "strain_range", 0.2, "~markers");
+    config.markers.nodes = Flag(markers, "nodes", false, "~markers");
+    config.markers.springs = Flag(markers, "springs", false, "~markers");
+  }
+  return config;
+}
+
+}  // namespace msm_sim::node

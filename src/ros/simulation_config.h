@@ -1,0 +1,100 @@
+#pragma once
+// The node's configuration (README "msm_sim_node": parameters), read from the parameter server
+// into plain structs, each value checked; a bad value is a ConfigError naming the parameter.
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <ros/node_handle.h>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace msm_sim::node {
+
+/// A configuration the node cannot run with; what() names the parameter and what is wrong.
+class ConfigError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct ShapeConfig {
+  std::string type = "box";                               ///< box | sphere | cylinder | mesh
+  Eigen::Vector3d size = Eigen::Vector3d::Constant(0.1);  ///< box, m
+  double radius = 0.05;                                   ///< sphere, cylinder, m
+  double length = 0.1;                                    ///< cylinder, m
+  std::string mesh_path;                                  ///< mesh: resolved file path
+  double scale = 1.0;                                     ///< mesh units to metres
+};
+
+/// Nodes fixed in place: those inside a box or behind a plane, in the world frame at start.
+struct ClampConfig {
+  std::string name;
+  bool is_box = true;
+  Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();  ///< box, m
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();    ///< half-space: a point of the plane, m
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< the half-space is behind the plane
+};
+
+struct ObjectConfig {
+  std::string name;
+  ShapeConfig shape;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
+  std::string model = "cubic";                             ///< cubic | random | baudet
+  double spacing = 0.0;                                    ///< m; 0 with target_nodes > 0
+  int target_nodes = 0;           ///< choose the spacing for about this many nodes
+  std::string spring = "linear";  ///< linear | nonlinear
+  bool antialias = true;
+  std::uint64_t seed = 1;                             ///< random models
+  double youngs = 0.0, poisson = 0.0, density = 0.0;  ///< Pa, -, kg/m^3
+  double damping = 0.0;                               ///< s, spring dampers c = damping k
+  double friction = 0.5;                              ///< Coulomb coefficient of the surface
+  double restitution = 1.0;                           ///< e of its microcollisions
+  std::vector<ClampConfig> clamps;
+  std::string visual_mesh_path;  ///< optional finer surface for the markers
+  double visual_scale = 1.0;
+};
+
+struct WrenchInputConfig {
+  std::string topic;     ///< geometry_msgs/WrenchStamped
+  std::string object;    ///< applied at the origin of the message's frame
+  double radius = 0.02;  ///< m, nodes within it share the wrench
+};
+
+struct WorldConfig {
+  std::string frame = "world";
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);
+  bool ground = true;
+  double ground_height = 0.0;  ///< m, along z of the world frame
+  double ground_friction = 0.5;
+  double time_step = 1e-3;     ///< s per simulation step (subdivided when unstable)
+  double publish_rate = 30.0;  ///< Hz of markers, contacts, state, tf, diagnostics
+  bool real_time = true;       ///< false: as fast as possible
+  double max_force = 1e4;      ///< N; larger applied forces are dropped as absurd
+};
+
+struct MarkerConfig {
+  bool colour_by_strain = true;  ///< colour the surface by its strain
+  double strain_range = 0.2;     ///< strain shown at full colour
+  bool nodes = false;            ///< also the nodes (SPHERE_LIST)
+  bool springs = false;          ///< also the springs (LINE_LIST)
+};
+
+struct SimulationConfig {
+  WorldConfig world;
+  std::vector<ObjectConfig> objects;
+  std::vector<WrenchInputConfig> wrench_inputs;
+  MarkerConfig markers;
+};
+
+/// Reads ~world, ~objects, ~wrench_inputs and ~markers (and ~materials for objects that name a
+/// material) from the private namespace. Mesh URIs (package://, file://, plain paths) are
+/// resolved to paths. Throws ConfigError.
+SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle);
+
+/// Resolves package://pkg/path, file:///path or a plain path; throws ConfigError naming
+/// `parameter` for an unknown package.
+std::string ResolveUri(const std::string& uri, const std::string& parameter);
+
+}  // namespace msm_sim::node
