@@ -380,6 +380,9 @@ void SimulationNode::PublishState(const ros::Time& stamp) {
 }
 
 void SimulationNode::PublishFrames(const ros::Time& stamp) {
+  // With use_sim_time the timer can fire twice at one clock value; tf refuses repeated stamps.
+  if (stamp <= last_frame_stamp_) return;
+  last_frame_stamp_ = stamp;
   for (const Object& object : objects_) {
     const core::Model& model = world_.model(object.body);
     const Eigen::VectorXd& m = model.masses();

@@ -95,6 +95,7 @@ class SimulationNode {
 
   bool paused_ = false;
   ros::Time origin_;  // ROS time at which the simulation time was 0 (real-time pacing)
+  ros::Time last_frame_stamp_;
   bool started_ = false;
   long steps_ = 0, rejected_steps_ = 0, steps_since_publish_ = 0;
   int last_substeps_ = 0;

@@ -1,0 +1,337 @@
+// rostests of msm_sim_node (issue "The ROS node"): each .test file starts the node with a scene
+// from this directory and runs one suite of this executable against it.
+#include <cmath>
+#include <deque>
+#include <functional>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <msm_sim/ContactArray.h>
+#include <msm_sim/ContactForce.h>
+#include <msm_sim/SetMaterial.h>
+#include <ros/ros.h>
+#include <rosgraph_msgs/Clock.h>
+#include <rosgraph_msgs/Log.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <sensor_msgs/point_cloud2_iterator.h>
+#include <std_srvs/Trigger.h>
+#include <visualization_msgs/MarkerArray.h>
+#include <Eigen/Core>
+
+namespace {
+
+// Spins until `done` holds or `seconds` of wall time pass; returns done().
+bool WaitFor(const std::function<bool()>& done, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    ros::spinOnce();
+    if (done()) return true;
+    ros::WallDuration(0.002).sleep();
+  }
+  return done();
+}
+
+// Listens to the node's outputs.
+class NodeOutputs {
+ public:
+  NodeOutputs() {
+    contacts_ = handle_.subscribe("/msm_sim/contacts", 1000, &NodeOutputs::OnContacts, this);
+    diagnostics_ = handle_.subscribe("/diagnostics", 100, &NodeOutputs::OnDiagnostics, this);
+    state_ = handle_.subscribe("/msm_sim/state", 10, &NodeOutputs::OnState, this);
+    rosout_ = handle_.subscribe("/rosout", 1000, &NodeOutputs::OnLog, this);
+    force_ = handle_.advertise<msm_sim::ContactForce>("/msm_sim/apply_force", 10);
+  }
+
+  // Simulated time reported by the node's diagnostics (s), < 0 before the first report.
+  double simulated_time = -1.0;
+  std::vector<msm_sim::ContactArray> contacts;
+  sensor_msgs::PointCloud2 state;
+  bool has_state = false;
+  std::vector<std::string> warnings;
+
+  bool WaitForNode() {
+    return WaitFor([&] { return simulated_time >= 0.0 && force_.getNumSubscribers() > 0; }, 30.0);
+  }
+  // Waits until the simulation has advanced by `seconds` of simulated time.
+  bool WaitSimulated(double seconds) {
+    const double target = simulated_time + seconds;
+    return WaitFor([&] { return simulated_time >= target; }, 60.0);
+  }
+  void Push(const std::string& object, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+            double radius, double duration, const std::string& frame = "world") {
+    msm_sim::ContactForce message;
+    message.header.frame_id = frame;
+    message.object = object;
+    message.point.x = point.x();
+    message.point.y = point.y();
+    message.point.z = point.z();
+    message.force.x = force.x();
+    message.force.y = force.y();
+    message.force.z = force.z();
+    message.radius = radius;
+    message.duration = duration;
+    force_.publish(message);
+  }
+  // Mean force on `collider` over the last `count` contact messages.
+  Eigen::Vector3d MeanForce(const std::string& collider, std::size_t count) const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    const std::size_t first = contacts.size() > count ? contacts.size() - count : 0;
+    for (std::size_t m = first; m < contacts.size(); ++m) {
+      for (const msm_sim::Contact& c : contacts[m].contacts) {
+        if (c.collider == collider) {
+          sum += Eigen::Vector3d(c.wrench.force.x, c.wrench.force.y, c.wrench.force.z);
+        }
+      }
+    }
+    return sum / static_cast<double>(contacts.size() - first);
+  }
+  std::vector<Eigen::Vector3d> Points() const {
+    std::vector<Eigen::Vector3d> points;
+    sensor_msgs::PointCloud2ConstIterator<float> x(state, "x"), y(state, "y"), z(state, "z");
+    for (; x != x.end(); ++x, ++y, ++z) points.emplace_back(*x, *y, *z);
+    return points;
+  }
+
+ private:
+  void OnContacts(const msm_sim::ContactArray::ConstPtr& message) { contacts.push_back(*message); }
+  void OnDiagnostics(const diagnostic_msgs::DiagnosticArray::ConstPtr& message) {
+    for (const auto& status : message->status) {
+      for (const auto& entry : status.values) {
+        if (entry.key == "simulated time [s]") simulated_time = std::stod(entry.value);
+      }
+    }
+  }
+  void OnState(const sensor_msgs::PointCloud2::ConstPtr& message) {
+    state = *message;
+    has_state = true;
+  }
+  void OnLog(const rosgraph_msgs::Log::ConstPtr& message) {
+    if (message->level == rosgraph_msgs::Log::WARN && message->name == "/msm_sim") {
+      warnings.push_back(message->msg);
+    }
+  }
+
+  ros::NodeHandle handle_;
+  ros::Subscriber contacts_, diagnostics_, state_, rosout_;
+  ros::Publisher force_;
+};
+
+bool Finite(const geometry_msgs::Point& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+// 1. A known force on a block clamped at its base (no gravity): after settling, the clamp's
+// contact force equals the applied force within 2 %.
+TEST(Push, ClampForceEqualsTheAppliedForce) {
+  NodeOutputs node;
+  ASSERT_TRUE(node.WaitForNode());
+  const Eigen::Vector3d force(2.0, -1.0, -3.0);
+  node.Push("block", Eigen::Vector3d(0.0, 0.0, 0.1), force, 0.03, 1000.0);
+  ASSERT_TRUE(node.WaitSimulated(3.0));
+  const std::size_t before = node.contacts.size();
+  ASSERT_TRUE(node.WaitSimulated(0.5));
+  const Eigen::Vector3d clamp = node.MeanForce("base", node.contacts.size() - before);
+  std::printf("  clamp force (%.4f, %.4f, %.4f) N, applied (%.1f, %.1f, %.1f) N\n", clamp.x(),
+              clamp.y(), clamp.z(), force.x(), force.y(), force.z());
+  EXPECT_LT((clamp - force).norm(), 0.02 * force.norm());
+}
+
+// 2. A block resting on the ground loads it with its weight within 2 %.
+TEST(Ground, RestingBlockLoadsTheGroundWithItsWeight) {
+  NodeOutputs node;
+  ASSERT_TRUE(node.WaitForNode());
+  ASSERT_TRUE(node.WaitSimulated(3.0));
+  const std::size_t before = node.contacts.size();
+  ASSERT_TRUE(node.WaitSimulated(1.0));
+  const Eigen::Vector3d ground = node.MeanForce("ground", node.contacts.size() - before);
+  const double weight = 1000.0 * 0.1 * 0.1 * 0.05 * 9.81;
+  std::printf("  ground force (%.4f, %.4f, %.4f) N, weight %.4f N\n", ground.x(), ground.y(),
+              ground.z(), weight);
+  EXPECT_NEAR(-ground.z() / weight, 1.0, 0.02);
+  EXPECT_LT(ground.head<2>().norm(), 0.02 * weight);
+}
+
+// 3. Markers: the visual mesh's triangles, finite, in the world frame, at the configured rate.
+TEST(Markers, SurfaceMatchesTheVisualMeshAtTheConfiguredRate) {
+  ros::NodeHandle handle;
+  std::vector<visualization_msgs::MarkerArray> received;
+  std::vector<ros::WallTime> times;
+  ros::Subscriber subscriber = handle.subscribe<visualization_msgs::MarkerArray>(
+      "/msm_sim/markers", 100, [&](const visualization_msgs::MarkerArray::ConstPtr& message) {
+        received.push_back(*message);
+        times.push_back(ros::WallTime::now());
+      });
+  ASSERT_TRUE(WaitFor([&] { return received.size() >= 3; }, 30.0));
+  const std::size_t first = received.size();
+  const ros::WallTime start = ros::WallTime::now();
+  WaitFor([] { return false; }, 5.0);
+  const double seconds = (ros::WallTime::now() - start).toSec();
+  const double rate = (received.size() - first) / seconds;
+  std::printf("  markers at %.2f Hz (configured 20 Hz)\n", rate);
+  EXPECT_NEAR(rate / 20.0, 1.0, 0.10);
+  const int kBeanTriangles = 5120;  // meshes/soft_bean.obj
+  for (const auto& array : received) {
+    ASSERT_EQ(array.markers.size(), 1u);
+    const visualization_msgs::Marker& marker = array.markers[0];
+    EXPECT_EQ(marker.header.frame_id, "world");
+    EXPECT_EQ(marker.ns, "bean");
+    EXPECT_EQ(marker.type, visualization_msgs::Marker::TRIANGLE_LIST);
+    ASSERT_EQ(marker.points.size(), 3u * kBeanTriangles);
+    EXPECT_EQ(marker.colors.size(), marker.points.size());
+    for (const auto& p : marker.points) ASSERT_TRUE(Finite(p));
+    for (const auto& c : marker.colors) ASSERT_TRUE(std::isfinite(c.r + c.g + c.b + c.a));
+  }
+}
+
+// 4. Bad messages are dropped with a warning naming the problem; the node keeps going.
+TEST(BadMessages, AreDroppedWithAWarningAndTheNodeKeepsRunning) {
+  NodeOutputs node;
+  ASSERT_TRUE(node.WaitForNode());
+  const double nan = std::nan("");
+  const double inf = std::numeric_limits<double>::infinity();
+  node.Push("block", Eigen::Vector3d(nan, 0.0, 0.1), Eigen::Vector3d(0, 0, -1), 0.03, 1.0);
+  node.Push("block", Eigen::Vector3d(0.0, 0.0, 0.1), Eigen::Vector3d(inf, 0, 0), 0.03, 1.0);
+  ros::WallDuration(1.1).sleep();  // the warnings are throttled per kind
+  node.Push("no_such_object", Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, -1), 0.03, 1.0);
+  node.Push("block", Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, -1), 0.03, 1.0,
+            "no_such_frame");
+  node.Push("block", Eigen::Vector3d(0, 0, 0.1), Eigen::Vector3d(0, 0, -1e9), 0.03, 1.0);
+  const std::vector<std::string> expected = {"NaN or Inf", "unknown object", "unknown frame",
+                                             "absurd"};
+  const auto all_warned = [&] {
+    for (const std::string& text : expected) {
+      bool found = false;
+      for (const std::string& w : node.warnings) found = found || w.find(text) != std::string::npos;
+      if (!found) return false;
+    }
+    return true;
+  };
+  EXPECT_TRUE(WaitFor(all_warned, 10.0));
+  for (const std::string& w : node.warnings) std::printf("  warning: %s\n", w.c_str());
+  // Still stepping and publishing, and nothing was applied: the clamp feels no force.
+  const double before = node.simulated_time;
+  ASSERT_TRUE(node.WaitSimulated(1.0));
+  EXPECT_GT(node.simulated_time, before);
+  EXPECT_LT(node.MeanForce("base", 10).norm(), 1e-6);
+}
+
+Eigen::Vector3d MeanDisplacement(const std::vector<Eigen::Vector3d>& now,
+                                 const std::vector<Eigen::Vector3d>& rest,
+                                 const Eigen::Vector3d& centre, double radius) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  int count = 0;
+  for (std::size_t i = 0; i < rest.size(); ++i) {
+    if ((rest[i] - centre).norm() > radius) continue;
+    sum += now[i] - rest[i];
+    ++count;
+  }
+  return sum / count;
+}
+
+// 5. ~reset restores the rest shape; after ~set_material halves E the same push deflects twice
+// as far within 5 %.
+TEST(ResetAndMaterial, ResetRestoresRestShapeAndHalfTheModulusDoublesTheDeflection) {
+  NodeOutputs node;
+  ros::NodeHandle handle;
+  ASSERT_TRUE(node.WaitForNode());
+  ASSERT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
+  const std::vector<Eigen::Vector3d> rest = node.Points();  // no gravity: at rest
+  const Eigen::Vector3d top(0.0, 0.0, 0.09);
+  const Eigen::Vector3d force(0.0, 0.0, -4.0);
+  auto deflection = [&] {
+    node.Push("block", top, force, 0.025, 1000.0);
+    EXPECT_TRUE(node.WaitSimulated(3.0));
+    node.has_state = false;
+    EXPECT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
+    return -MeanDisplacement(node.Points(), rest, top, 0.025).z();
+  };
+  auto call = [&](const std::string& service) {
+    std_srvs::Trigger trigger;
+    EXPECT_TRUE(ros::service::waitForService(service, 10000));
+    EXPECT_TRUE(ros::service::call(service, trigger));
+    EXPECT_TRUE(trigger.response.success) << trigger.response.message;
+  };
+  const double first = deflection();
+  ASSERT_GT(first, 1e-4);
+  call("/msm_sim/reset");
+  // A state published before the reset may still be on its way: read one from later.
+  ASSERT_TRUE(node.WaitSimulated(0.2));
+  node.has_state = false;
+  ASSERT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
+  double worst = 0.0;
+  const std::vector<Eigen::Vector3d> after_reset = node.Points();
+  for (std::size_t i = 0; i < rest.size(); ++i)
+    worst = std::max(worst, (after_reset[i] - rest[i]).norm());
+  EXPECT_LT(worst, 1e-6) << "reset did not restore the rest shape";
+
+  msm_sim::SetMaterial material;
+  material.request.object = "block";
+  material.request.youngs = 2.5e4;  // half of push.yaml's
+  material.request.poisson = 0.3;
+  material.request.density = 1000.0;
+  material.request.damping = 0.002;
+  material.request.friction = 0.5;
+  ASSERT_TRUE(ros::service::waitForService("/msm_sim/set_material", 10000));
+  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
+  ASSERT_TRUE(material.response.success) << material.response.message;
+  const double second = deflection();
+  std::printf("  deflection %.6f m at E, %.6f m at E/2: ratio %.4f\n", first, second,
+              second / first);
+  EXPECT_NEAR(second / first, 2.0, 0.1);
+  // A bad request is refused with a reason and changes nothing.
+  material.request.poisson = 0.7;
+  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
+  EXPECT_FALSE(material.response.success);
+  EXPECT_NE(material.response.message.find("Poisson"), std::string::npos)
+      << material.response.message;
+}
+
+// 6. With use_sim_time, stepping follows /clock: no steps while the clock is stopped.
+TEST(SimTime, SteppingFollowsTheClock) {
+  ros::NodeHandle handle;
+  ros::Publisher clock = handle.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  NodeOutputs node;
+  double now = 1.0;
+  auto tick = [&](double until) {
+    for (; now < until - 1e-9; now += 0.01) {
+      rosgraph_msgs::Clock message;
+      message.clock = ros::Time(now);
+      clock.publish(message);
+      ros::WallDuration(0.004).sleep();
+      ros::spinOnce();
+    }
+  };
+  // Start the clock until the node reports.
+  ASSERT_TRUE(WaitFor(
+      [&] {
+        tick(now + 0.05);
+        return node.simulated_time >= 0.0;
+      },
+      30.0));
+  const double start_clock = now;
+  const double start_simulated = node.simulated_time;
+  tick(now + 1.0);
+  WaitFor([] { return false; }, 0.5);
+  const double advanced = node.simulated_time - start_simulated;
+  std::printf("  clock advanced %.3f s, simulation %.3f s\n", now - start_clock, advanced);
+  EXPECT_NEAR(advanced, now - start_clock, 0.1);
+  // Clock stopped for two seconds of wall time: no steps.
+  const double frozen = node.simulated_time;
+  WaitFor([] { return false; }, 2.0);
+  EXPECT_EQ(node.simulated_time, frozen);
+  tick(now + 0.5);
+  WaitFor([] { return false; }, 0.5);
+  EXPECT_NEAR(node.simulated_time - frozen, 0.5, 0.1);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_msm_sim_node");
+  ros::NodeHandle keep_alive;
+  return RUN_ALL_TESTS();
+}
