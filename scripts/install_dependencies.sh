@@ -12,7 +12,7 @@ packages=(
   libsensor-msgs-dev libvisualization-msgs-dev libstd-srvs-dev libdiagnostic-msgs-dev
   ros-sensor-msgs ros-visualization-msgs ros-std-srvs ros-diagnostic-msgs
   python3-sensor-msgs python3-visualization-msgs python3-std-srvs python3-diagnostic-msgs
-  libtf2-geometry-msgs-dev libnodelet-dev libnodeletlib-dev pluginlib-dev
+  libtf2-geometry-msgs-dev libnodelet-dev libnodeletlib-dev libnodeletlib-tools pluginlib-dev
   python3-rostest librostest-dev python3-roslaunch
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
   libcli11-dev nlohmann-json3-dev python3-matplotlib

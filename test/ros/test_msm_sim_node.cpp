@@ -19,7 +19,10 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_srvs/Trigger.h>
 #include <visualization_msgs/MarkerArray.h>
+#include <xmlrpcpp/XmlRpcValue.h>
+
 #include <Eigen/Core>
+#include "simulation_config.h"
 
 namespace {
 
@@ -325,6 +328,54 @@ TEST(SimTime, SteppingFollowsTheClock) {
   tick(now + 0.5);
   WaitFor([] { return false; }, 0.5);
   EXPECT_NEAR(node.simulated_time - frozen, 0.5, 0.1);
+}
+
+// A bad configuration is one ConfigError naming the parameter (the node prints it as its one
+// ROS_FATAL line and exits 1).
+void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
+                       const std::string& mentions) {
+  ros::NodeHandle scene("/bad_scene");
+  scene.deleteParam("");
+  // A valid scene, then one change.
+  XmlRpc::XmlRpcValue object;
+  object["name"] = std::string("block");
+  object["shape"]["type"] = std::string("box");
+  XmlRpc::XmlRpcValue size;
+  size[0] = 0.1;
+  size[1] = 0.1;
+  size[2] = 0.1;
+  object["shape"]["size"] = size;
+  object["spacing"] = 0.025;
+  object["youngs"] = 1e5;
+  object["poisson"] = 0.3;
+  object["density"] = 1000.0;
+  if (yaml_key.rfind("world/", 0) != 0) object[yaml_key] = value;
+  XmlRpc::XmlRpcValue objects;
+  objects[0] = object;
+  scene.setParam("objects", objects);
+  if (yaml_key.rfind("world/", 0) == 0) scene.setParam(yaml_key, value);
+  try {
+    msm_sim::node::LoadSimulationConfig(scene);
+    ADD_FAILURE() << yaml_key << " was accepted";
+  } catch (const msm_sim::node::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find(mentions), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+  }
+}
+
+TEST(BadConfig, NamesTheParameter) {
+  ExpectConfigError("poisson", 0.7, "~objects[0]/poisson");
+  ExpectConfigError("model", std::string("foam"), "~objects[0]/model");
+  ExpectConfigError("youngs", std::string("soft"), "~objects[0]/youngs");
+  ExpectConfigError("material", std::string("unobtainium"), "~objects[0]/material");
+  ExpectConfigError("world/time_step", -1.0, "~world/time_step");
+  ExpectConfigError("world/publish_rate", 0.0, "~world/publish_rate");
+  XmlRpc::XmlRpcValue bad_clamp;
+  bad_clamp[0]["name"] = std::string("c");
+  ExpectConfigError("clamps", bad_clamp, "~objects[0]/clamps[0]");
+  ros::NodeHandle("/empty_scene").deleteParam("");
+  EXPECT_THROW(msm_sim::node::LoadSimulationConfig(ros::NodeHandle("/empty_scene")),
+               msm_sim::node::ConfigError);
 }
 
 }  // namespace
