@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/WrenchStamped.h>
 #include <gtest/gtest.h>
 #include <msm_sim/ContactArray.h>
 #include <msm_sim/ContactForce.h>
@@ -18,6 +19,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <std_srvs/Trigger.h>
+#include <tf2_ros/static_transform_broadcaster.h>
 #include <visualization_msgs/MarkerArray.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
@@ -140,6 +142,44 @@ TEST(Push, ClampForceEqualsTheAppliedForce) {
   std::printf("  clamp force (%.4f, %.4f, %.4f) N, applied (%.1f, %.1f, %.1f) N\n", clamp.x(),
               clamp.y(), clamp.z(), force.x(), force.y(), force.z());
   EXPECT_LT((clamp - force).norm(), 0.02 * force.norm());
+}
+
+// A configured WrenchStamped topic pushes at the origin of its frame (tf2) while messages come,
+// and lets go half a second after they stop.
+TEST(WrenchInput, PushesAtItsFrameWhileMessagesCome) {
+  NodeOutputs node;
+  ros::NodeHandle handle;
+  ASSERT_TRUE(node.WaitForNode());
+  tf2_ros::StaticTransformBroadcaster frames;
+  geometry_msgs::TransformStamped pusher;
+  pusher.header.stamp = ros::Time::now();
+  pusher.header.frame_id = "world";
+  pusher.child_frame_id = "pusher";
+  pusher.transform.translation.z = 0.1;  // the block's top face
+  pusher.transform.rotation.z = 1.0;     // turned half a turn about z: x becomes -x
+  frames.sendTransform(pusher);
+  ros::Publisher wrench = handle.advertise<geometry_msgs::WrenchStamped>("/pusher/wrench", 10);
+  ASSERT_TRUE(WaitFor([&] { return wrench.getNumSubscribers() > 0; }, 10.0));
+  geometry_msgs::WrenchStamped message;
+  message.header.frame_id = "pusher";
+  message.wrench.force.x = 1.5;  // -1.5 N along the world's x
+  message.wrench.force.z = -2.0;
+  const double start = node.simulated_time;
+  std::size_t settled = 0;
+  while (node.simulated_time < start + 3.0 && ros::ok()) {
+    message.header.stamp = ros::Time::now();
+    wrench.publish(message);
+    WaitFor([] { return false; }, 0.02);
+    if (settled == 0 && node.simulated_time > start + 2.5) settled = node.contacts.size();
+  }
+  const Eigen::Vector3d clamp = node.MeanForce("base", node.contacts.size() - settled);
+  std::printf("  clamp force (%.4f, %.4f, %.4f) N for a wrench of (-1.5, 0, -2) N in the world\n",
+              clamp.x(), clamp.y(), clamp.z());
+  EXPECT_LT((clamp - Eigen::Vector3d(-1.5, 0.0, -2.0)).norm(), 0.05 * 2.5);
+  // Messages stop: the push ends after the hold time and the clamp unloads.
+  WaitFor([] { return false; }, 1.5);
+  ASSERT_TRUE(node.WaitSimulated(1.0));
+  EXPECT_LT(node.MeanForce("base", 10).norm(), 0.05);
 }
 
 // 2. A block resting on the ground loads it with its weight within 2 %.
