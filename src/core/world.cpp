@@ -481,6 +481,7 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
     const Eigen::Vector3d x = body->state.positions.col(node);
     contacts.clear();
     for (std::size_t c = 0; c < colliders_.size(); ++c) {
+      if (!colliders_[c].enabled) continue;
       const Eigen::Vector3d local = inverse[c] * x;
       if (bounded[c] && ((local.array() < lo[c].array() - radius).any() ||
                          (local.array() > hi[c].array() + radius).any())) {

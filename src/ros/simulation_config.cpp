@@ -294,6 +294,34 @@ SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
       config.wrench_inputs.push_back(input);
     }
   }
+  XmlRpcValue robot;
+  if (private_handle.getParam("robot", robot)) {
+    if (robot.getType() != XmlRpcValue::TypeStruct) Fail("~robot", "expected a dictionary");
+    RobotConfig& r = config.robot;
+    r.enabled = true;
+    r.description_param = Text(robot, "description_param", r.description_param, "~robot");
+    r.friction = NonNegative(robot, "friction", r.friction, "~robot");
+    r.tf_timeout = Positive(robot, "tf_timeout", r.tf_timeout, "~robot");
+    if (Has(robot, "links")) {
+      XmlRpcValue& links = robot["links"];
+      if (links.getType() != XmlRpcValue::TypeArray) Fail("~robot/links", "expected a list");
+      for (int i = 0; i < links.size(); ++i) {
+        if (links[i].getType() != XmlRpcValue::TypeString) {
+          Fail("~robot/links[" + std::to_string(i) + "]", "expected a link name");
+        }
+        r.links.push_back(static_cast<std::string>(links[i]));
+      }
+    }
+    if (Has(robot, "link_friction")) {
+      XmlRpcValue& table = robot["link_friction"];
+      if (table.getType() != XmlRpcValue::TypeStruct) {
+        Fail("~robot/link_friction", "expected {link: coefficient}");
+      }
+      for (auto& [link, value] : table) {
+        r.link_friction[link] = NonNegative(table, link, 0.0, "~robot/link_friction");
+      }
+    }
+  }
   XmlRpcValue markers;
   if (private_handle.getParam("markers", markers)) {
     config.markers.colour_by_strain = Flag(markers, "colour_by_strain", true, "~markers");

@@ -3,6 +3,7 @@
 // into plain structs, each value checked; a bad value is a ConfigError naming the parameter.
 
 #include <cstdint>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -81,11 +82,22 @@ struct MarkerConfig {
   bool springs = false;          ///< also the springs (LINE_LIST)
 };
 
+/// Robot links as colliders (README "Robot in the loop").
+struct RobotConfig {
+  bool enabled = false;                                 ///< a ~robot section is present
+  std::string description_param = "robot_description";  ///< URDF, looked up with searchParam
+  std::vector<std::string> links;  ///< empty: every link with collision geometry
+  double friction = 0.5;
+  std::map<std::string, double> link_friction;  ///< per link, overrides `friction`
+  double tf_timeout = 0.25;  ///< s: a link whose tf is older has its contacts off
+};
+
 struct SimulationConfig {
   WorldConfig world;
   std::vector<ObjectConfig> objects;
   std::vector<WrenchInputConfig> wrench_inputs;
   MarkerConfig markers;
+  RobotConfig robot;
 };
 
 /// Reads ~world, ~objects, ~wrench_inputs and ~markers (and ~materials for objects that name a

@@ -110,6 +110,11 @@ SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_h
              world_.stable_time_step());
     objects_.push_back(std::move(object));
   }
+  robot_ = std::make_unique<RobotColliders>(config_.robot, config_.world.frame, &world_);
+  for (const RobotColliders::Link& link : robot_->links()) {
+    link_wrenches_.push_back(private_handle_.advertise<geometry_msgs::WrenchStamped>(
+        "links/" + link.name + "/wrench", 10));
+  }
   contact_sums_.resize(objects_.size());
 
   markers_ = private_handle_.advertise<visualization_msgs::MarkerArray>("markers", 1);
@@ -169,11 +174,18 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
     origin_ = now;
     started_ = true;
   }
+  robot_->Update(tf_buffer_, now);
   if (!paused_) {
-    // Catch up with ROS time, at most one second per cycle (a slow machine falls behind rather
-    // than spiralling).
-    const double behind = (now - origin_).toSec() - world_.time();
-    Advance(std::min(behind, 1.0));
+    // Catch up, but within 80 % of a publication period of wall time: a simulation slower
+    // than real time then falls behind (the diagnostics' real-time factor says by how much)
+    // instead of delaying every output.
+    double behind = (now - origin_).toSec() - world_.time();
+    if (behind > 0.5) {  // far behind: let the rest go rather than race to catch up later
+      origin_ += ros::Duration(behind - 0.5);
+      behind = 0.5;
+    }
+    Advance(behind,
+            ros::WallTime::now() + ros::WallDuration(0.8 / config_.world.publish_rate));
   } else {
     origin_ = now - ros::Duration(world_.time());  // paused time does not count
   }
@@ -182,14 +194,16 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
 
 void SimulationNode::OnWallTimer(const ros::WallTimerEvent&) {
   // As fast as possible: one publication interval of simulated time per call.
-  if (!paused_) Advance(1.0 / config_.world.publish_rate);
+  robot_->Update(tf_buffer_, ros::Time::now());
+  if (!paused_) Advance(1.0 / config_.world.publish_rate, ros::WallTime());
   Publish(ros::Time::now());
 }
 
-void SimulationNode::Advance(double seconds) {
+void SimulationNode::Advance(double seconds, const ros::WallTime& deadline) {
   const double dt = config_.world.time_step;
   const int steps = static_cast<int>(std::floor(seconds / dt + 1e-9));
   for (int k = 0; k < steps; ++k) {
+    if (!deadline.isZero() && ros::WallTime::now() > deadline) break;
     // Wrench topics hold their last value until it goes stale.
     const ros::Time now = ros::Time::now();
     for (WrenchInput& input : wrench_inputs_) {
@@ -325,15 +339,33 @@ void SimulationNode::PublishContacts(const ros::Time& stamp) {
   msm_sim::ContactArray array;
   array.header.stamp = stamp;
   array.header.frame_id = config_.world.frame;
+  const int colliders = world_.num_colliders();
+  const std::vector<RobotColliders::Link>& links = robot_->links();
+  // Per robot link, summed over objects: force and torque about the link origin (world axes).
+  std::vector<Eigen::Vector3d> link_force(links.size(), Eigen::Vector3d::Zero());
+  std::vector<Eigen::Vector3d> link_torque(links.size(), Eigen::Vector3d::Zero());
   if (contact_time_ > 0.0) {
     for (std::size_t o = 0; o < objects_.size(); ++o) {
       const Object& object = objects_[o];
+      std::vector<ContactSum> per_link(links.size());
+      std::vector<Eigen::Vector3d> per_link_torque(links.size(), Eigen::Vector3d::Zero());
       for (std::size_t w = 0; w < contact_sums_[o].size(); ++w) {
         ContactSum& sum = contact_sums_[o][w];
         if (sum.microcollisions == 0) continue;
+        const int link = static_cast<int>(w) < colliders ? robot_->LinkOfCollider(w) : -1;
+        if (link >= 0) {
+          // Move the torque from the collision element's origin to the link's.
+          const Eigen::Vector3d offset =
+              world_.collider(w).pose.translation() - links[link].pose.translation();
+          per_link[link].force_time += sum.force_time;
+          per_link_torque[link] += sum.torque_time + offset.cross(sum.force_time);
+          per_link[link].weighted_centroid += sum.weighted_centroid;
+          per_link[link].weight += sum.weight;
+          per_link[link].microcollisions += sum.microcollisions;
+          continue;
+        }
         msm_sim::Contact contact;
         contact.object = object.config.name;
-        const int colliders = world_.num_colliders();
         contact.collider = static_cast<int>(w) < colliders
                                ? world_.collider(static_cast<int>(w)).name
                                : object.clamp_names[w - colliders];
@@ -346,7 +378,36 @@ void SimulationNode::PublishContacts(const ros::Time& stamp) {
         contact.microcollisions = static_cast<std::uint32_t>(sum.microcollisions);
         array.contacts.push_back(contact);
       }
+      // Robot links report in their own frame, about their origin.
+      for (std::size_t l = 0; l < links.size(); ++l) {
+        if (per_link[l].microcollisions == 0) continue;
+        const Eigen::Isometry3d& pose = links[l].pose;
+        const Eigen::Matrix3d to_link = pose.linear().transpose();
+        const Eigen::Vector3d force = per_link[l].force_time / contact_time_;
+        const Eigen::Vector3d torque = per_link_torque[l] / contact_time_;
+        link_force[l] += force;
+        link_torque[l] += torque;
+        msm_sim::Contact contact;
+        contact.object = object.config.name;
+        contact.collider = links[l].name;
+        contact.frame_id = links[l].name;
+        contact.wrench.force = ToVector(to_link * force);
+        contact.wrench.torque = ToVector(to_link * torque);
+        contact.centroid = ToPoint(
+            pose.inverse() * Eigen::Vector3d(per_link[l].weighted_centroid / per_link[l].weight));
+        contact.microcollisions = static_cast<std::uint32_t>(per_link[l].microcollisions);
+        array.contacts.push_back(contact);
+      }
     }
+  }
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    geometry_msgs::WrenchStamped wrench;
+    wrench.header.stamp = stamp;
+    wrench.header.frame_id = links[l].name;
+    const Eigen::Matrix3d to_link = links[l].pose.linear().transpose();
+    wrench.wrench.force = ToVector(to_link * link_force[l]);
+    wrench.wrench.torque = ToVector(to_link * link_torque[l]);
+    link_wrenches_[l].publish(wrench);
   }
   for (auto& sums : contact_sums_) std::fill(sums.begin(), sums.end(), ContactSum{});
   contact_time_ = 0.0;

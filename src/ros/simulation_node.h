@@ -18,6 +18,7 @@
 
 #include "msm_sim/core/surface_skin.h"
 #include "msm_sim/core/world.h"
+#include "robot_colliders.h"
 #include "simulation_config.h"
 
 namespace msm_sim::node {
@@ -55,7 +56,8 @@ class SimulationNode {
 
   void OnTimer(const ros::TimerEvent& event);
   void OnWallTimer(const ros::WallTimerEvent& event);
-  void Advance(double seconds);
+  /// Steps `seconds` of simulation, stopping early at `deadline` (zero: none).
+  void Advance(double seconds, const ros::WallTime& deadline);
   void Publish(const ros::Time& stamp);
   void PublishMarkers(const ros::Time& stamp);
   void PublishContacts(const ros::Time& stamp);
@@ -83,6 +85,8 @@ class SimulationNode {
   std::vector<std::vector<ContactSum>> contact_sums_;
   double contact_time_ = 0.0;  // s of simulation summed into contact_sums_
   std::vector<WrenchInput> wrench_inputs_;
+  std::unique_ptr<RobotColliders> robot_;
+  std::vector<ros::Publisher> link_wrenches_;  // ~links/<link>/wrench, per robot link
 
   ros::Publisher markers_, contacts_, state_, diagnostics_;
   ros::Subscriber apply_force_;

@@ -58,6 +58,8 @@ struct Collider {
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< world, rad/s
   double friction = 0.5;     ///< Coulomb coefficient of this surface (pairs combine, see World)
   double restitution = 1.0;  ///< e in [0, 1]: 1 is the thesis' elastic exchange
+  /// A disabled collider touches nothing (e.g. a robot link whose pose tf no longer gives).
+  bool enabled = true;
 
   /// Velocity of the collider's material point at world position p.
   Eigen::Vector3d VelocityAt(const Eigen::Vector3d& p) const {

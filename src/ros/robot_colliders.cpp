@@ -1,0 +1,186 @@
+#include "robot_colliders.h"
+
+#include <algorithm>
+#include <memory>
+#include <set>
+
+#include <urdf_parser/urdf_parser.h>
+
+#include "msm_sim/core/mesh_import.h"
+#include "msm_sim/core/solid_mesh.h"
+
+namespace msm_sim::node {
+namespace {
+
+Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
+  Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
+  result.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
+  result.linear() =
+      Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
+          .normalized()
+          .toRotationMatrix();
+  return result;
+}
+
+// The collider shape of one URDF geometry; throws with the reason it cannot be made.
+core::ColliderShape ShapeOf(const urdf::Geometry& geometry) {
+  switch (geometry.type) {
+    case urdf::Geometry::BOX: {
+      const auto& box = static_cast<const urdf::Box&>(geometry);
+      return core::ColliderShape::Box(Eigen::Vector3d(box.dim.x, box.dim.y, box.dim.z));
+    }
+    case urdf::Geometry::SPHERE:
+      return core::ColliderShape::Sphere(static_cast<const urdf::Sphere&>(geometry).radius);
+    case urdf::Geometry::CYLINDER: {
+      const auto& cylinder = static_cast<const urdf::Cylinder&>(geometry);
+      return core::ColliderShape::Cylinder(cylinder.radius, cylinder.length);
+    }
+    case urdf::Geometry::MESH: {
+      const auto& mesh = static_cast<const urdf::Mesh&>(geometry);
+      const std::string path = ResolveUri(mesh.filename, "mesh " + mesh.filename);
+      core::MeshImportOptions options;
+      options.min_extent = 0.0;
+      options.max_extent = 1e6;  // checked after the URDF's scale below
+      core::TriangleMesh triangles = core::ImportTriangleMesh(path, options).mesh;
+      triangles.vertices = Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z).asDiagonal() *
+                           triangles.vertices;
+      return core::ColliderShape::Mesh(std::make_shared<const core::SolidMesh>(triangles));
+    }
+  }
+  throw std::invalid_argument("unknown geometry type");
+}
+
+}  // namespace
+
+RobotColliders::RobotColliders(const RobotConfig& config, const std::string& world_frame,
+                               core::World* world)
+    : config_(config), world_frame_(world_frame), world_(world) {
+  if (!config.enabled) return;
+  ros::NodeHandle handle;
+  std::string key, description;
+  if (!handle.searchParam(config.description_param, key) || !handle.getParam(key, description)) {
+    ROS_ERROR("msm_sim: robot: no parameter '%s' (the URDF); running without robot colliders",
+              config.description_param.c_str());
+    return;
+  }
+  urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(description);
+  if (!model) {
+    ROS_ERROR(
+        "msm_sim: robot: '%s' is not a valid URDF (see the urdfdom error above); running "
+        "without robot colliders",
+        key.c_str());
+    return;
+  }
+  std::vector<std::string> names = config.links;
+  if (names.empty()) {
+    std::vector<urdf::LinkSharedPtr> all;
+    model->getLinks(all);
+    for (const auto& link : all) {
+      if (!link->collision_array.empty() || link->collision) names.push_back(link->name);
+    }
+    std::sort(names.begin(), names.end());
+  }
+  for (const std::string& name : names) {
+    const urdf::LinkConstSharedPtr link = model->getLink(name);
+    if (!link) {
+      ROS_ERROR("msm_sim: robot: link '%s' listed in ~robot/links is not in '%s'; it is left out",
+                name.c_str(), key.c_str());
+      continue;
+    }
+    std::vector<urdf::CollisionSharedPtr> collisions = link->collision_array;
+    if (collisions.empty() && link->collision) collisions.push_back(link->collision);
+    Link entry;
+    entry.name = name;
+    for (const auto& collision : collisions) {
+      if (!collision || !collision->geometry) continue;
+      try {
+        core::Collider collider;
+        collider.name = name;
+        collider.shape = ShapeOf(*collision->geometry);
+        const auto friction = config.link_friction.find(name);
+        collider.friction =
+            friction != config.link_friction.end() ? friction->second : config.friction;
+        collider.enabled = false;  // until tf gives its pose
+        entry.colliders.push_back(world->AddCollider(collider));
+        entry.origins.push_back(ToIsometry(collision->origin));
+      } catch (const std::exception& e) {
+        ROS_ERROR(
+            "msm_sim: robot: a collision element of link '%s' cannot be used (%s); it is "
+            "left out",
+            name.c_str(), e.what());
+      }
+    }
+    if (entry.colliders.empty()) {
+      ROS_WARN("msm_sim: robot: link '%s' has no usable collision geometry", name.c_str());
+      continue;
+    }
+    links_.push_back(std::move(entry));
+  }
+  ROS_INFO("msm_sim: robot: %d links as colliders", static_cast<int>(links_.size()));
+}
+
+int RobotColliders::LinkOfCollider(int collider) const {
+  for (std::size_t l = 0; l < links_.size(); ++l) {
+    for (const int c : links_[l].colliders) {
+      if (c == collider) return static_cast<int>(l);
+    }
+  }
+  return -1;
+}
+
+void RobotColliders::Update(const tf2_ros::Buffer& buffer, const ros::Time& now) {
+  for (Link& link : links_) {
+    bool fresh = false;
+    try {
+      const geometry_msgs::TransformStamped transform =
+          buffer.lookupTransform(world_frame_, link.name, ros::Time(0));
+      const geometry_msgs::Transform& t = transform.transform;
+      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+      pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
+      pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
+                          .normalized()
+                          .toRotationMatrix();
+      const ros::Time stamp = transform.header.stamp;
+      // Static transforms carry stamp 0 and never go stale.
+      fresh = stamp.isZero() || (now - stamp).toSec() <= config_.tf_timeout;
+      // Between tf updates the World moves the collider on with its twist; only a new
+      // transform resets it.
+      if (fresh && (!link.has_pose || stamp != link.stamp)) {
+        Eigen::Vector3d linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
+        const double dt = link.has_pose ? (stamp - link.stamp).toSec() : 0.0;
+        if (dt > 0.0) {
+          linear = (pose.translation() - link.pose.translation()) / dt;
+          const Eigen::AngleAxisd turn(pose.linear() * link.pose.linear().transpose());
+          angular = turn.axis() * turn.angle() / dt;
+        }
+        link.pose = pose;
+        link.stamp = stamp;
+        link.has_pose = true;
+        for (std::size_t k = 0; k < link.colliders.size(); ++k) {
+          core::Collider& collider = world_->collider(link.colliders[k]);
+          collider.pose = pose * link.origins[k];
+          // The velocity of the collider's frame origin, from the link's twist.
+          collider.angular_velocity = angular;
+          collider.linear_velocity =
+              linear + angular.cross(collider.pose.translation() - pose.translation());
+        }
+      }
+    } catch (const tf2::TransformException& e) {
+      ROS_WARN_THROTTLE(1.0, "msm_sim: robot: no tf for link '%s' (%s); its contacts are off",
+                        link.name.c_str(), e.what());
+    }
+    if (!fresh && link.live) {
+      ROS_WARN(
+          "msm_sim: robot: tf for link '%s' is older than %.2f s; its contacts are off until "
+          "tf returns",
+          link.name.c_str(), config_.tf_timeout);
+    }
+    if (fresh && !link.live && link.has_pose) {
+      ROS_INFO("msm_sim: robot: tf for link '%s' is back; its contacts are on", link.name.c_str());
+    }
+    link.live = fresh;
+    for (const int c : link.colliders) world_->collider(c).enabled = fresh;
+  }
+}
+
+}  // namespace msm_sim::node

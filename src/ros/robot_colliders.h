@@ -1,0 +1,49 @@
+#pragma once
+// A robot's links as kinematic colliders: collision geometry from the URDF, poses from tf2,
+// twists from successive poses (README "Robot in the loop").
+
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+#include <tf2_ros/buffer.h>
+#include <Eigen/Geometry>
+
+#include "msm_sim/core/world.h"
+#include "simulation_config.h"
+
+namespace msm_sim::node {
+
+class RobotColliders {
+ public:
+  struct Link {
+    std::string name;
+    std::vector<int> colliders;              // World collider indices
+    std::vector<Eigen::Isometry3d> origins;  // collision origin in the link frame, per collider
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // link in the world frame
+    ros::Time stamp;                                         // of the pose (0: static)
+    bool has_pose = false;
+    bool live = false;  // tf is fresh: contacts on
+  };
+
+  /// Adds a collider per collision element of the selected links. A missing or malformed
+  /// description, an unknown link or an unreadable mesh is reported with ROS_ERROR and left out:
+  /// the simulation runs on without it.
+  RobotColliders(const RobotConfig& config, const std::string& world_frame, core::World* world);
+
+  /// Poses and twists from tf at `now`; a link whose transform is missing or older than the
+  /// timeout gets its contacts turned off (throttled warning) until tf returns.
+  void Update(const tf2_ros::Buffer& buffer, const ros::Time& now);
+
+  const std::vector<Link>& links() const { return links_; }
+  /// The link a World collider belongs to, or -1.
+  int LinkOfCollider(int collider) const;
+
+ private:
+  RobotConfig config_;
+  std::string world_frame_;
+  core::World* world_;
+  std::vector<Link> links_;
+};
+
+}  // namespace msm_sim::node
