@@ -1,7 +1,8 @@
 # msm_sim developer entry points. The repository root is the catkin package; it is built in a
 # catkin workspace under build/ws (ignored by git).
 #
-#   make demo   install dependencies, build, run the materials lab on a default material
+#   make demo   install dependencies, build, run the robot demo headless and print a summary
+#   make lab    the same, then the materials lab on a default block
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
 #   make bench  build and run the Google Benchmarks (bench/)
 
@@ -13,7 +14,7 @@ export PATH := /usr/bin:/bin:$(PATH)
 CATKIN_MAKE := catkin_make -C $(WS) -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
 JOBS ?= -j2
 
-.PHONY: deps workspace build demo test bench format clean
+.PHONY: deps workspace build demo lab test bench format clean
 
 deps:
 	@$(ROOT)/scripts/install_dependencies.sh
@@ -33,7 +34,13 @@ workspace:
 build: deps workspace
 	$(CATKIN_MAKE) $(JOBS)
 
+# The robot demo, headless for 10 s: a finger presses into the default soft block and drags
+# across it; prints the peak fingertip force, the real-time factor and the final energy.
 demo: build
+	source $(WS)/devel/setup.bash && roslaunch msm_sim demo.launch duration:=10
+
+# The materials lab on a default block (what `make demo` ran before the node existed).
+lab: build
 	source $(WS)/devel/setup.bash && rosrun msm_sim msm_lab compression --model cubic \
 	  --size 2 1 1 --spacing 0.0625 --youngs 1e5 --poisson 0.25 --density 1100
 

@@ -19,6 +19,8 @@ packages=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # Test set-up: the mesh importer is checked against every model assimp ships.
   assimp-testmodels
+  # The robot demo and its check with a real client (rviz on a virtual display).
+  ros-robot-state-publisher python3-rospy rviz xvfb imagemagick
 )
 
 missing=()

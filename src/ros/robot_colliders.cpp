@@ -52,6 +52,11 @@ core::ColliderShape ShapeOf(const urdf::Geometry& geometry) {
 
 }  // namespace
 
+void RobotColliders::Problem(const std::string& message) {
+  ROS_ERROR("msm_sim: robot: %s", message.c_str());
+  problems_.push_back(message);
+}
+
 RobotColliders::RobotColliders(const RobotConfig& config, const std::string& world_frame,
                                core::World* world)
     : config_(config), world_frame_(world_frame), world_(world) {
@@ -59,16 +64,15 @@ RobotColliders::RobotColliders(const RobotConfig& config, const std::string& wor
   ros::NodeHandle handle;
   std::string key, description;
   if (!handle.searchParam(config.description_param, key) || !handle.getParam(key, description)) {
-    ROS_ERROR("msm_sim: robot: no parameter '%s' (the URDF); running without robot colliders",
-              config.description_param.c_str());
+    Problem("no parameter '" + config.description_param +
+            "' (the URDF); running without robot colliders");
     return;
   }
   urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(description);
   if (!model) {
-    ROS_ERROR(
-        "msm_sim: robot: '%s' is not a valid URDF (see the urdfdom error above); running "
-        "without robot colliders",
-        key.c_str());
+    Problem("'" + key +
+            "' is not a valid URDF (see the urdfdom error above); running without robot "
+            "colliders");
     return;
   }
   std::vector<std::string> names = config.links;
@@ -83,8 +87,7 @@ RobotColliders::RobotColliders(const RobotConfig& config, const std::string& wor
   for (const std::string& name : names) {
     const urdf::LinkConstSharedPtr link = model->getLink(name);
     if (!link) {
-      ROS_ERROR("msm_sim: robot: link '%s' listed in ~robot/links is not in '%s'; it is left out",
-                name.c_str(), key.c_str());
+      Problem("link '" + name + "' listed in ~robot/links is not in '" + key + "'; it is left out");
       continue;
     }
     std::vector<urdf::CollisionSharedPtr> collisions = link->collision_array;
@@ -104,10 +107,8 @@ RobotColliders::RobotColliders(const RobotConfig& config, const std::string& wor
         entry.colliders.push_back(world->AddCollider(collider));
         entry.origins.push_back(ToIsometry(collision->origin));
       } catch (const std::exception& e) {
-        ROS_ERROR(
-            "msm_sim: robot: a collision element of link '%s' cannot be used (%s); it is "
-            "left out",
-            name.c_str(), e.what());
+        Problem("a collision element of link '" + name + "' cannot be used (" + e.what() +
+                "); it is left out");
       }
     }
     if (entry.colliders.empty()) {

@@ -38,12 +38,16 @@ class RobotColliders {
   const std::vector<Link>& links() const { return links_; }
   /// The link a World collider belongs to, or -1.
   int LinkOfCollider(int collider) const;
+  /// What could not be used at start-up, one line each (also logged with ROS_ERROR).
+  const std::vector<std::string>& problems() const { return problems_; }
 
  private:
   RobotConfig config_;
   std::string world_frame_;
   core::World* world_;
   std::vector<Link> links_;
+  std::vector<std::string> problems_;
+  void Problem(const std::string& message);
 };
 
 }  // namespace msm_sim::node

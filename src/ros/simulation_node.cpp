@@ -41,14 +41,18 @@ geometry_msgs::Vector3 ToVector(const Eigen::Vector3d& v) {
   return p;
 }
 
-// Blue (compressed) - white - red (stretched).
+// Blue (compressed) - a light silicone tone (unstrained) - red (stretched).
 std_msgs::ColorRGBA StrainColour(double strain, double range) {
   const double s = std::clamp(strain / range, -1.0, 1.0);
+  const Eigen::Vector3d neutral(0.95, 0.82, 0.62);
+  const Eigen::Vector3d end =
+      s >= 0.0 ? Eigen::Vector3d(0.85, 0.1, 0.1) : Eigen::Vector3d(0.1, 0.25, 0.9);
+  const Eigen::Vector3d c = neutral + std::abs(s) * (end - neutral);
   std_msgs::ColorRGBA colour;
+  colour.r = c.x();
+  colour.g = c.y();
+  colour.b = c.z();
   colour.a = 1.0;
-  colour.r = s >= 0.0 ? 1.0 : 1.0 + s;
-  colour.g = 1.0 - std::abs(s);
-  colour.b = s <= 0.0 ? 1.0 : 1.0 - s;
   return colour;
 }
 
@@ -184,8 +188,7 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
       origin_ += ros::Duration(behind - 0.5);
       behind = 0.5;
     }
-    Advance(behind,
-            ros::WallTime::now() + ros::WallDuration(0.8 / config_.world.publish_rate));
+    Advance(behind, ros::WallTime::now() + ros::WallDuration(0.8 / config_.world.publish_rate));
   } else {
     origin_ = now - ros::Duration(world_.time());  // paused time does not count
   }
@@ -509,6 +512,14 @@ void SimulationNode::PublishDiagnostics(const ros::Time& stamp) {
   add("steps", text(static_cast<double>(steps_)));
   add("rejected steps", text(static_cast<double>(rejected_steps_)));
   if (!last_rejection_.empty()) add("last rejection", last_rejection_);
+  const std::vector<std::string>& problems = robot_->problems();
+  for (std::size_t p = 0; p < problems.size(); ++p) {
+    add("robot problem " + std::to_string(p + 1), problems[p]);
+  }
+  if (!problems.empty()) {
+    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
+    status.message = "running without part of the robot (see robot problems)";
+  }
   for (const Object& object : objects_) {
     add("energy " + object.config.name + " [J]", text(world_.ComputeEnergies(object.body).total()));
   }
