@@ -167,8 +167,13 @@ void RobotColliders::Update(const tf2_ros::Buffer& buffer, const ros::Time& now)
         }
       }
     } catch (const tf2::TransformException& e) {
-      ROS_WARN_THROTTLE(1.0, "msm_sim: robot: no tf for link '%s' (%s); its contacts are off",
-                        link.name.c_str(), e.what());
+      // Before a link's first pose this is start-up (robot_state_publisher not up yet).
+      if (link.has_pose) {
+        ROS_WARN_THROTTLE(1.0, "msm_sim: robot: no tf for link '%s' (%s); its contacts are off",
+                          link.name.c_str(), e.what());
+      } else {
+        ROS_INFO_THROTTLE(5.0, "msm_sim: robot: waiting for tf of link '%s'", link.name.c_str());
+      }
     }
     if (!fresh && link.live) {
       ROS_WARN(
