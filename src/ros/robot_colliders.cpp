@@ -4,6 +4,7 @@
 #include <memory>
 #include <set>
 
+#include <tf2/exceptions.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include "msm_sim/core/mesh_import.h"
@@ -57,15 +58,13 @@ void RobotColliders::Problem(const std::string& message) {
   problems_.push_back(message);
 }
 
-RobotColliders::RobotColliders(const RobotConfig& config, const std::string& world_frame,
-                               core::World* world)
+RobotColliders::RobotColliders(const RobotConfig& config, const std::string& description,
+                               const std::string& world_frame, core::World* world)
     : config_(config), world_frame_(world_frame), world_(world) {
   if (!config.enabled) return;
-  ros::NodeHandle handle;
-  std::string key, description;
-  if (!handle.searchParam(config.description_param, key) || !handle.getParam(key, description)) {
-    Problem("no parameter '" + config.description_param +
-            "' (the URDF); running without robot colliders");
+  const std::string& key = config.description_param;
+  if (description.empty()) {
+    Problem("no robot description '" + key + "' (the URDF); running without robot colliders");
     return;
   }
   urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(description);
@@ -129,7 +128,7 @@ int RobotColliders::LinkOfCollider(int collider) const {
   return -1;
 }
 
-void RobotColliders::Update(const tf2_ros::Buffer& buffer, const ros::Time& now) {
+void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now) {
   for (Link& link : links_) {
     bool fresh = false;
     try {

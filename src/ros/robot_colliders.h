@@ -6,7 +6,7 @@
 #include <vector>
 
 #include <ros/ros.h>
-#include <tf2_ros/buffer.h>
+#include <tf2/buffer_core.h>
 #include <Eigen/Geometry>
 
 #include "msm_sim/core/world.h"
@@ -26,14 +26,15 @@ class RobotColliders {
     bool live = false;  // tf is fresh: contacts on
   };
 
-  /// Adds a collider per collision element of the selected links. A missing or malformed
-  /// description, an unknown link or an unreadable mesh is reported with ROS_ERROR and left out:
-  /// the simulation runs on without it.
-  RobotColliders(const RobotConfig& config, const std::string& world_frame, core::World* world);
+  /// Adds a collider per collision element of the selected links of the URDF `description`
+  /// (empty: none was found). A missing or malformed description, an unknown link or an unreadable
+  /// mesh is reported with ROS_ERROR and left out: the simulation runs on without it.
+  RobotColliders(const RobotConfig& config, const std::string& description,
+                 const std::string& world_frame, core::World* world);
 
   /// Poses and twists from tf at `now`; a link whose transform is missing or older than the
   /// timeout gets its contacts turned off (throttled warning) until tf returns.
-  void Update(const tf2_ros::Buffer& buffer, const ros::Time& now);
+  void Update(const tf2::BufferCore& buffer, const ros::Time& now);
 
   const std::vector<Link>& links() const { return links_; }
   /// The link a World collider belongs to, or -1.

@@ -1,141 +1,37 @@
 #include "simulation_node.h"
 
 #include <algorithm>
-#include <cmath>
-#include <sstream>
-
-#include <diagnostic_msgs/DiagnosticArray.h>
-#include <geometry_msgs/TransformStamped.h>
-#include <msm_sim/ContactArray.h>
-#include <sensor_msgs/PointCloud2.h>
-#include <sensor_msgs/point_cloud2_iterator.h>
-#include <visualization_msgs/MarkerArray.h>
-
-#include "object_builder.h"
 
 namespace msm_sim::node {
-namespace {
 
-// Applied forces hold this long after their last message on a wrench topic.
-constexpr double kWrenchHoldSeconds = 0.5;
-
-core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
-  core::WorldOptions options;
-  options.gravity = config.gravity;
-  return options;
+std::string RobotDescriptionParameter(const RobotConfig& config) {
+  if (!config.enabled) return {};
+  ros::NodeHandle handle("~");
+  std::string key, description;
+  if (handle.searchParam(config.description_param, key)) handle.getParam(key, description);
+  return description;
 }
-
-geometry_msgs::Point ToPoint(const Eigen::Vector3d& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
-
-geometry_msgs::Vector3 ToVector(const Eigen::Vector3d& v) {
-  geometry_msgs::Vector3 p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
-
-// Blue (compressed) - a light silicone tone (unstrained) - red (stretched).
-std_msgs::ColorRGBA StrainColour(double strain, double range) {
-  const double s = std::clamp(strain / range, -1.0, 1.0);
-  const Eigen::Vector3d neutral(0.95, 0.82, 0.62);
-  const Eigen::Vector3d end =
-      s >= 0.0 ? Eigen::Vector3d(0.85, 0.1, 0.1) : Eigen::Vector3d(0.1, 0.25, 0.9);
-  const Eigen::Vector3d c = neutral + std::abs(s) * (end - neutral);
-  std_msgs::ColorRGBA colour;
-  colour.r = c.x();
-  colour.g = c.y();
-  colour.b = c.z();
-  colour.a = 1.0;
-  return colour;
-}
-
-Eigen::Isometry3d ToIsometry(const geometry_msgs::TransformStamped& stamped) {
-  const geometry_msgs::Transform& t = stamped.transform;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
-                      .normalized()
-                      .toRotationMatrix();
-  return pose;
-}
-
-}  // namespace
 
 SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_handle)
-    : handle_(handle),
-      private_handle_(private_handle),
-      config_(LoadSimulationConfig(private_handle)),
-      world_(WorldOptionsOf(config_.world)),
-      tf_listener_(tf_buffer_) {
-  if (config_.world.ground) {
-    core::Collider ground;
-    ground.name = "ground";
-    ground.friction = config_.world.ground_friction;
-    ground.pose.translation() = Eigen::Vector3d(0.0, 0.0, config_.world.ground_height);
-    world_.AddCollider(ground);
-  }
-  for (std::size_t i = 0; i < config_.objects.size(); ++i) {
-    const ObjectConfig& object_config = config_.objects[i];
-    const std::string path = "~objects[" + std::to_string(i) + "]";
-    BuiltObject built = BuildObject(object_config, path);
-    Object object;
-    object.config = object_config;
-    object.body = world_.AddBody(object_config.name, built.model, BodyOptionsOf(object_config));
-    for (auto& [name, nodes] : built.clamps) {
-      world_.AddKinematicGroup(object.body, core::KinematicGroup{name, nodes, {}});
-      object.clamp_names.push_back(name);
-    }
-    try {
-      object.skin = std::make_shared<const core::SurfaceSkin>(
-          core::SurfaceSkin::Embed(*built.model, built.surface));
-    } catch (const std::exception& e) {
-      throw ConfigError("parameter " + path + "/visual_mesh: " + e.what());
-    }
-    const core::TriangleMesh& surface = object.skin->rest_surface();
-    object.rest_edge_lengths.resize(3 * surface.num_triangles());
-    for (int t = 0; t < surface.num_triangles(); ++t) {
-      for (int e = 0; e < 3; ++e) {
-        object.rest_edge_lengths[3 * t + e] =
-            (surface.vertices.col(surface.triangles(e, t)) -
-             surface.vertices.col(surface.triangles((e + 1) % 3, t)))
-                .norm();
-      }
-    }
-    ROS_INFO("msm_sim: object '%s': %d nodes, %d springs, %.4g kg, %d clamps, stable step %.3g s",
-             object_config.name.c_str(), built.model->num_nodes(), built.model->num_springs(),
-             built.model->masses().sum(), static_cast<int>(built.clamps.size()),
-             world_.stable_time_step());
-    objects_.push_back(std::move(object));
-  }
-  robot_ = std::make_unique<RobotColliders>(config_.robot, config_.world.frame, &world_);
-  for (const RobotColliders::Link& link : robot_->links()) {
-    link_wrenches_.push_back(private_handle_.advertise<geometry_msgs::WrenchStamped>(
-        "links/" + link.name + "/wrench", 10));
-  }
-  contact_sums_.resize(objects_.size());
+    : handle_(handle), private_handle_(private_handle), tf_listener_(tf_buffer_) {
+  const SimulationConfig config = LoadSimulationConfig(private_handle);
+  simulation_ = std::make_unique<Simulation>(config, RobotDescriptionParameter(config.robot));
 
   markers_ = private_handle_.advertise<visualization_msgs::MarkerArray>("markers", 1);
   contacts_ = private_handle_.advertise<msm_sim::ContactArray>("contacts", 10);
   state_ = private_handle_.advertise<sensor_msgs::PointCloud2>("state", 1);
   diagnostics_ = handle_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
-  apply_force_ = private_handle_.subscribe("apply_force", 100, &SimulationNode::OnApplyForce, this);
-  for (std::size_t i = 0; i < config_.wrench_inputs.size(); ++i) {
-    WrenchInput input;
-    input.config = config_.wrench_inputs[i];
-    input.object = FindObject(input.config.object);
-    wrench_inputs_.push_back(input);
+  for (const RobotColliders::Link& link : simulation_->robot().links()) {
+    link_wrenches_.push_back(private_handle_.advertise<geometry_msgs::WrenchStamped>(
+        "links/" + link.name + "/wrench", 10));
   }
-  for (std::size_t i = 0; i < wrench_inputs_.size(); ++i) {
-    wrench_inputs_[i].subscriber = handle_.subscribe<geometry_msgs::WrenchStamped>(
-        wrench_inputs_[i].config.topic, 10,
-        [this, i](const geometry_msgs::WrenchStamped::ConstPtr& message) { OnWrench(i, message); });
+  apply_force_ = private_handle_.subscribe("apply_force", 100, &SimulationNode::OnApplyForce, this);
+  for (std::size_t i = 0; i < config.wrench_inputs.size(); ++i) {
+    wrench_subscribers_.push_back(handle_.subscribe<geometry_msgs::WrenchStamped>(
+        config.wrench_inputs[i].topic, 10,
+        [this, i](const geometry_msgs::WrenchStamped::ConstPtr& message) {
+          OnWrench(i, message);
+        }));
   }
   reset_ = private_handle_.advertiseService("reset", &SimulationNode::OnReset, this);
   pause_ = private_handle_.advertiseService("pause", &SimulationNode::OnPause, this);
@@ -143,9 +39,9 @@ SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_h
   set_material_ =
       private_handle_.advertiseService("set_material", &SimulationNode::OnSetMaterial, this);
 
-  const double period = 1.0 / config_.world.publish_rate;
+  const double period = 1.0 / config.world.publish_rate;
   last_publish_wall_ = ros::WallTime::now();
-  if (config_.world.real_time) {
+  if (config.world.real_time) {
     // ros::Timer follows ROS time, so with use_sim_time /clock drives the stepping.
     timer_ = handle_.createTimer(ros::Duration(period), &SimulationNode::OnTimer, this);
   } else {
@@ -154,479 +50,86 @@ SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_h
   }
 }
 
-core::BodyOptions SimulationNode::BodyOptionsOf(const ObjectConfig& config) const {
-  core::BodyOptions options;
-  options.damping_beta = config.damping;
-  options.friction = config.friction;
-  options.restitution = config.restitution;
-  return options;
-}
-
-int SimulationNode::FindObject(const std::string& name) const {
-  for (std::size_t i = 0; i < objects_.size(); ++i) {
-    if (objects_[i].config.name == name) return static_cast<int>(i);
-  }
-  for (std::size_t i = 0; i < config_.objects.size(); ++i) {
-    if (config_.objects[i].name == name) return static_cast<int>(i);
-  }
-  return -1;
-}
-
 void SimulationNode::OnTimer(const ros::TimerEvent& event) {
   const ros::Time now = event.current_real;
   if (!started_) {
     origin_ = now;
     started_ = true;
   }
-  robot_->Update(tf_buffer_, now);
+  simulation_->UpdateRobot(tf_buffer_, now);
   if (!paused_) {
     // Catch up, but within 80 % of a publication period of wall time: a simulation slower
     // than real time then falls behind (the diagnostics' real-time factor says by how much)
     // instead of delaying every output.
-    double behind = (now - origin_).toSec() - world_.time();
+    double behind = (now - origin_).toSec() - simulation_->time();
     if (behind > 0.5) {  // far behind: let the rest go rather than race to catch up later
       origin_ += ros::Duration(behind - 0.5);
       behind = 0.5;
     }
-    Advance(behind, ros::WallTime::now() + ros::WallDuration(0.8 / config_.world.publish_rate));
+    simulation_->Advance(
+        behind, now,
+        ros::WallTime::now() + ros::WallDuration(0.8 / simulation_->config().world.publish_rate));
   } else {
-    origin_ = now - ros::Duration(world_.time());  // paused time does not count
+    origin_ = now - ros::Duration(simulation_->time());  // paused time does not count
   }
   Publish(now);
 }
 
 void SimulationNode::OnWallTimer(const ros::WallTimerEvent&) {
   // As fast as possible: one publication interval of simulated time per call.
-  robot_->Update(tf_buffer_, ros::Time::now());
-  if (!paused_) Advance(1.0 / config_.world.publish_rate, ros::WallTime());
-  Publish(ros::Time::now());
-}
-
-void SimulationNode::Advance(double seconds, const ros::WallTime& deadline) {
-  const double dt = config_.world.time_step;
-  const int steps = static_cast<int>(std::floor(seconds / dt + 1e-9));
-  for (int k = 0; k < steps; ++k) {
-    if (!deadline.isZero() && ros::WallTime::now() > deadline) break;
-    // Wrench topics hold their last value until it goes stale.
-    const ros::Time now = ros::Time::now();
-    for (WrenchInput& input : wrench_inputs_) {
-      if (!input.active) continue;
-      if ((now - input.received).toSec() > kWrenchHoldSeconds) {
-        input.active = false;
-        continue;
-      }
-      world_.ApplyWrench(objects_[input.object].body, input.point, input.force, input.torque,
-                         input.config.radius, 0.0);
-    }
-    const ros::WallTime start = ros::WallTime::now();
-    const core::StepReport report = world_.Step(dt);
-    step_wall_seconds_ += (ros::WallTime::now() - start).toSec();
-    ++steps_;
-    ++steps_since_publish_;
-    last_substeps_ = report.substeps;
-    if (!report.accepted) {
-      ++rejected_steps_;
-      last_rejection_ = report.reason;
-      ROS_WARN_THROTTLE(1.0, "msm_sim: step rejected, state kept: %s", report.reason.c_str());
-      continue;
-    }
-    simulated_since_publish_ += dt;
-    contact_time_ += dt;
-    for (std::size_t o = 0; o < objects_.size(); ++o) {
-      const std::vector<core::ContactWrench>& wrenches = world_.wrenches(objects_[o].body);
-      std::vector<ContactSum>& sums = contact_sums_[o];
-      sums.resize(wrenches.size());
-      for (std::size_t w = 0; w < wrenches.size(); ++w) {
-        const double weight = wrenches[w].force.norm() * dt;
-        sums[w].force_time += wrenches[w].force * dt;
-        sums[w].torque_time += wrenches[w].torque * dt;
-        sums[w].weighted_centroid += weight * wrenches[w].centroid;
-        sums[w].weight += weight;
-        sums[w].microcollisions += wrenches[w].microcollisions;
-      }
-    }
+  const ros::Time now = ros::Time::now();
+  simulation_->UpdateRobot(tf_buffer_, now);
+  if (!paused_) {
+    simulation_->Advance(1.0 / simulation_->config().world.publish_rate, now, ros::WallTime());
   }
+  Publish(now);
 }
 
 void SimulationNode::Publish(const ros::Time& stamp) {
-  PublishMarkers(stamp);
-  PublishContacts(stamp);
-  PublishState(stamp);
-  PublishFrames(stamp);
-  PublishDiagnostics(stamp);
-}
-
-void SimulationNode::PublishMarkers(const ros::Time& stamp) {
-  if (markers_.getNumSubscribers() == 0) return;
-  visualization_msgs::MarkerArray array;
-  for (const Object& object : objects_) {
-    const core::State& state = world_.state(object.body);
-    const Eigen::Matrix3Xd vertices = object.skin->DeformedVertices(state.positions);
-    const core::TriangleMesh& surface = object.skin->rest_surface();
-    // Surface strain at each vertex: the mean relative change of its edges.
-    Eigen::VectorXd strain = Eigen::VectorXd::Zero(surface.num_vertices());
-    Eigen::VectorXd count = Eigen::VectorXd::Zero(surface.num_vertices());
-    for (int t = 0; t < surface.num_triangles(); ++t) {
-      for (int e = 0; e < 3; ++e) {
-        const int a = surface.triangles(e, t), b = surface.triangles((e + 1) % 3, t);
-        const double rest = object.rest_edge_lengths[3 * t + e];
-        if (!(rest > 0.0)) continue;
-        const double s = (vertices.col(a) - vertices.col(b)).norm() / rest - 1.0;
-        strain[a] += s;
-        strain[b] += s;
-        count[a] += 1.0;
-        count[b] += 1.0;
-      }
-    }
-    visualization_msgs::Marker mesh;
-    mesh.header.stamp = stamp;
-    mesh.header.frame_id = config_.world.frame;
-    mesh.ns = object.config.name;
-    mesh.id = 0;
-    mesh.type = visualization_msgs::Marker::TRIANGLE_LIST;
-    mesh.action = visualization_msgs::Marker::ADD;
-    mesh.pose.orientation.w = 1.0;
-    mesh.scale.x = mesh.scale.y = mesh.scale.z = 1.0;
-    mesh.color.r = 0.9;
-    mesh.color.g = 0.6;
-    mesh.color.b = 0.3;
-    mesh.color.a = 1.0;
-    mesh.points.reserve(3 * surface.num_triangles());
-    for (int t = 0; t < surface.num_triangles(); ++t) {
-      for (int e = 0; e < 3; ++e) {
-        const int v = surface.triangles(e, t);
-        mesh.points.push_back(ToPoint(vertices.col(v)));
-        if (config_.markers.colour_by_strain) {
-          mesh.colors.push_back(StrainColour(count[v] > 0.0 ? strain[v] / count[v] : 0.0,
-                                             config_.markers.strain_range));
-        }
-      }
-    }
-    array.markers.push_back(std::move(mesh));
-    if (config_.markers.nodes) {
-      visualization_msgs::Marker nodes;
-      nodes.header = array.markers.back().header;
-      nodes.ns = object.config.name;
-      nodes.id = 1;
-      nodes.type = visualization_msgs::Marker::SPHERE_LIST;
-      nodes.pose.orientation.w = 1.0;
-      const double size = 0.3 * world_.model(object.body).characteristic_length();
-      nodes.scale.x = nodes.scale.y = nodes.scale.z = size;
-      nodes.color.b = nodes.color.a = 1.0;
-      for (int i = 0; i < state.positions.cols(); ++i) {
-        nodes.points.push_back(ToPoint(state.positions.col(i)));
-      }
-      array.markers.push_back(std::move(nodes));
-    }
-    if (config_.markers.springs) {
-      const core::Model& model = world_.model(object.body);
-      visualization_msgs::Marker springs;
-      springs.header = array.markers.back().header;
-      springs.ns = object.config.name;
-      springs.id = 2;
-      springs.type = visualization_msgs::Marker::LINE_LIST;
-      springs.pose.orientation.w = 1.0;
-      springs.scale.x = 0.05 * model.characteristic_length();
-      springs.color.g = springs.color.a = 1.0;
-      for (int s = 0; s < model.num_springs(); ++s) {
-        springs.points.push_back(ToPoint(state.positions.col(model.spring_node_a()[s])));
-        springs.points.push_back(ToPoint(state.positions.col(model.spring_node_b()[s])));
-      }
-      array.markers.push_back(std::move(springs));
-    }
+  if (markers_.getNumSubscribers() > 0) markers_.publish(simulation_->Markers(stamp));
+  std::vector<geometry_msgs::WrenchStamped> link_wrenches;
+  contacts_.publish(simulation_->Contacts(stamp, &link_wrenches));
+  for (std::size_t l = 0; l < link_wrenches.size(); ++l) {
+    link_wrenches_[l].publish(link_wrenches[l]);
   }
-  markers_.publish(array);
-}
-
-void SimulationNode::PublishContacts(const ros::Time& stamp) {
-  msm_sim::ContactArray array;
-  array.header.stamp = stamp;
-  array.header.frame_id = config_.world.frame;
-  const int colliders = world_.num_colliders();
-  const std::vector<RobotColliders::Link>& links = robot_->links();
-  // Per robot link, summed over objects: force and torque about the link origin (world axes).
-  std::vector<Eigen::Vector3d> link_force(links.size(), Eigen::Vector3d::Zero());
-  std::vector<Eigen::Vector3d> link_torque(links.size(), Eigen::Vector3d::Zero());
-  if (contact_time_ > 0.0) {
-    for (std::size_t o = 0; o < objects_.size(); ++o) {
-      const Object& object = objects_[o];
-      std::vector<ContactSum> per_link(links.size());
-      std::vector<Eigen::Vector3d> per_link_torque(links.size(), Eigen::Vector3d::Zero());
-      for (std::size_t w = 0; w < contact_sums_[o].size(); ++w) {
-        ContactSum& sum = contact_sums_[o][w];
-        if (sum.microcollisions == 0) continue;
-        const int link = static_cast<int>(w) < colliders ? robot_->LinkOfCollider(w) : -1;
-        if (link >= 0) {
-          // Move the torque from the collision element's origin to the link's.
-          const Eigen::Vector3d offset =
-              world_.collider(w).pose.translation() - links[link].pose.translation();
-          per_link[link].force_time += sum.force_time;
-          per_link_torque[link] += sum.torque_time + offset.cross(sum.force_time);
-          per_link[link].weighted_centroid += sum.weighted_centroid;
-          per_link[link].weight += sum.weight;
-          per_link[link].microcollisions += sum.microcollisions;
-          continue;
-        }
-        msm_sim::Contact contact;
-        contact.object = object.config.name;
-        contact.collider = static_cast<int>(w) < colliders
-                               ? world_.collider(static_cast<int>(w)).name
-                               : object.clamp_names[w - colliders];
-        contact.frame_id = config_.world.frame;
-        contact.wrench.force = ToVector(sum.force_time / contact_time_);
-        contact.wrench.torque = ToVector(sum.torque_time / contact_time_);
-        contact.centroid =
-            ToPoint(sum.weight > 0.0 ? Eigen::Vector3d(sum.weighted_centroid / sum.weight)
-                                     : Eigen::Vector3d::Zero());
-        contact.microcollisions = static_cast<std::uint32_t>(sum.microcollisions);
-        array.contacts.push_back(contact);
-      }
-      // Robot links report in their own frame, about their origin.
-      for (std::size_t l = 0; l < links.size(); ++l) {
-        if (per_link[l].microcollisions == 0) continue;
-        const Eigen::Isometry3d& pose = links[l].pose;
-        const Eigen::Matrix3d to_link = pose.linear().transpose();
-        const Eigen::Vector3d force = per_link[l].force_time / contact_time_;
-        const Eigen::Vector3d torque = per_link_torque[l] / contact_time_;
-        link_force[l] += force;
-        link_torque[l] += torque;
-        msm_sim::Contact contact;
-        contact.object = object.config.name;
-        contact.collider = links[l].name;
-        contact.frame_id = links[l].name;
-        contact.wrench.force = ToVector(to_link * force);
-        contact.wrench.torque = ToVector(to_link * torque);
-        contact.centroid = ToPoint(
-            pose.inverse() * Eigen::Vector3d(per_link[l].weighted_centroid / per_link[l].weight));
-        contact.microcollisions = static_cast<std::uint32_t>(per_link[l].microcollisions);
-        array.contacts.push_back(contact);
-      }
-    }
-  }
-  for (std::size_t l = 0; l < links.size(); ++l) {
-    geometry_msgs::WrenchStamped wrench;
-    wrench.header.stamp = stamp;
-    wrench.header.frame_id = links[l].name;
-    const Eigen::Matrix3d to_link = links[l].pose.linear().transpose();
-    wrench.wrench.force = ToVector(to_link * link_force[l]);
-    wrench.wrench.torque = ToVector(to_link * link_torque[l]);
-    link_wrenches_[l].publish(wrench);
-  }
-  for (auto& sums : contact_sums_) std::fill(sums.begin(), sums.end(), ContactSum{});
-  contact_time_ = 0.0;
-  contacts_.publish(array);
-}
-
-void SimulationNode::PublishState(const ros::Time& stamp) {
-  if (state_.getNumSubscribers() == 0) return;
-  sensor_msgs::PointCloud2 cloud;
-  cloud.header.stamp = stamp;
-  cloud.header.frame_id = config_.world.frame;
-  std::size_t total = 0;
-  for (const Object& object : objects_) total += world_.model(object.body).num_nodes();
-  sensor_msgs::PointCloud2Modifier modifier(cloud);
-  modifier.setPointCloud2Fields(
-      4, "x", 1, sensor_msgs::PointField::FLOAT32, "y", 1, sensor_msgs::PointField::FLOAT32, "z", 1,
-      sensor_msgs::PointField::FLOAT32, "object", 1, sensor_msgs::PointField::UINT32);
-  modifier.resize(total);
-  sensor_msgs::PointCloud2Iterator<float> x(cloud, "x"), y(cloud, "y"), z(cloud, "z");
-  sensor_msgs::PointCloud2Iterator<std::uint32_t> index(cloud, "object");
-  for (std::size_t o = 0; o < objects_.size(); ++o) {
-    const Eigen::Matrix3Xd& positions = world_.state(objects_[o].body).positions;
-    for (int i = 0; i < positions.cols(); ++i, ++x, ++y, ++z, ++index) {
-      *x = static_cast<float>(positions(0, i));
-      *y = static_cast<float>(positions(1, i));
-      *z = static_cast<float>(positions(2, i));
-      *index = static_cast<std::uint32_t>(o);
-    }
-  }
-  state_.publish(cloud);
-}
-
-void SimulationNode::PublishFrames(const ros::Time& stamp) {
+  if (state_.getNumSubscribers() > 0) state_.publish(simulation_->State(stamp));
   // With use_sim_time the timer can fire twice at one clock value; tf refuses repeated stamps.
-  if (stamp <= last_frame_stamp_) return;
-  last_frame_stamp_ = stamp;
-  for (const Object& object : objects_) {
-    const core::Model& model = world_.model(object.body);
-    const Eigen::VectorXd& m = model.masses();
-    const Eigen::Matrix3Xd& x = world_.state(object.body).positions;
-    const Eigen::Matrix3Xd& rest = model.rest_positions();
-    const Eigen::Vector3d centre = x * m / m.sum();
-    const Eigen::Vector3d rest_centre = rest * m / m.sum();
-    // The body's rotation: the rotation part of the best affine fit rest -> current (the polar
-    // decomposition of sum m (x - c)(X - C)^T).
-    const Eigen::Matrix3d covariance =
-        (x.colwise() - centre) * m.asDiagonal() * (rest.colwise() - rest_centre).transpose();
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
-                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d rotation = svd.matrixU() * svd.matrixV().transpose();
-    if (rotation.determinant() < 0.0) {
-      Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-      flip(2, 2) = -1.0;
-      rotation = svd.matrixU() * flip * svd.matrixV().transpose();
-    }
-    geometry_msgs::TransformStamped transform;
-    transform.header.stamp = stamp;
-    transform.header.frame_id = config_.world.frame;
-    transform.child_frame_id = object.config.name;
-    transform.transform.translation = ToVector(centre);
-    const Eigen::Quaterniond q(rotation);
-    transform.transform.rotation.x = q.x();
-    transform.transform.rotation.y = q.y();
-    transform.transform.rotation.z = q.z();
-    transform.transform.rotation.w = q.w();
-    tf_broadcaster_.sendTransform(transform);
+  if (stamp > last_frame_stamp_) {
+    last_frame_stamp_ = stamp;
+    for (const auto& frame : simulation_->Frames(stamp)) tf_broadcaster_.sendTransform(frame);
   }
-}
-
-void SimulationNode::PublishDiagnostics(const ros::Time& stamp) {
   const ros::WallTime now = ros::WallTime::now();
-  const double wall = (now - last_publish_wall_).toSec();
+  diagnostics_.publish(
+      simulation_->Diagnostics(stamp, (now - last_publish_wall_).toSec(), paused_));
   last_publish_wall_ = now;
-  diagnostic_msgs::DiagnosticArray array;
-  array.header.stamp = stamp;
-  diagnostic_msgs::DiagnosticStatus status;
-  status.name = ros::this_node::getName() + ": simulation";
-  status.hardware_id = "msm_sim";
-  status.level = rejected_steps_ > 0 ? diagnostic_msgs::DiagnosticStatus::WARN
-                                     : diagnostic_msgs::DiagnosticStatus::OK;
-  status.message = paused_ ? "paused" : (rejected_steps_ > 0 ? "steps rejected" : "running");
-  auto add = [&status](const std::string& key, const std::string& value) {
-    diagnostic_msgs::KeyValue entry;
-    entry.key = key;
-    entry.value = value;
-    status.values.push_back(entry);
-  };
-  std::ostringstream number;
-  auto text = [&number](double value) {
-    number.str("");
-    number << value;
-    return number.str();
-  };
-  add("simulated time [s]", text(world_.time()));
-  add("step time [ms]",
-      text(steps_since_publish_ > 0 ? 1e3 * step_wall_seconds_ / steps_since_publish_ : 0.0));
-  add("real-time factor", text(wall > 0.0 ? simulated_since_publish_ / wall : 0.0));
-  add("substeps per step", text(last_substeps_));
-  add("steps", text(static_cast<double>(steps_)));
-  add("rejected steps", text(static_cast<double>(rejected_steps_)));
-  if (!last_rejection_.empty()) add("last rejection", last_rejection_);
-  const std::vector<std::string>& problems = robot_->problems();
-  for (std::size_t p = 0; p < problems.size(); ++p) {
-    add("robot problem " + std::to_string(p + 1), problems[p]);
-  }
-  if (!problems.empty()) {
-    status.level = diagnostic_msgs::DiagnosticStatus::WARN;
-    status.message = "running without part of the robot (see robot problems)";
-  }
-  for (const Object& object : objects_) {
-    add("energy " + object.config.name + " [J]", text(world_.ComputeEnergies(object.body).total()));
-  }
-  array.status.push_back(status);
-  diagnostics_.publish(array);
-  steps_since_publish_ = 0;
-  step_wall_seconds_ = 0.0;
-  simulated_since_publish_ = 0.0;
 }
 
-bool SimulationNode::LookUp(const std::string& frame, const ros::Time& stamp,
-                            Eigen::Isometry3d* transform, std::string* error) const {
-  if (frame.empty() || frame == config_.world.frame) {
-    *transform = Eigen::Isometry3d::Identity();
-    return true;
-  }
-  try {
-    *transform = ToIsometry(
-        tf_buffer_.lookupTransform(config_.world.frame, frame, stamp, ros::Duration(0.0)));
-    return true;
-  } catch (const tf2::TransformException& e) {
-    // A stamp tf has not reached yet: take the latest.
-    try {
-      *transform = ToIsometry(tf_buffer_.lookupTransform(config_.world.frame, frame, ros::Time(0)));
-      return true;
-    } catch (const tf2::TransformException& latest) {
-      *error = latest.what();
-      return false;
-    }
-  }
+void SimulationNode::WarnDropped(const std::string& source, const std::string& reason) {
+  // Throttle per kind: the reason up to its first quote or parenthesis.
+  const std::string kind = source + ": " + reason.substr(0, reason.find_first_of("'(|"));
+  const ros::WallTime now = ros::WallTime::now();
+  const auto it = last_warning_.find(kind);
+  if (it != last_warning_.end() && (now - it->second).toSec() < 1.0) return;
+  last_warning_[kind] = now;
+  ROS_WARN("msm_sim: %s: %s; dropped", source.c_str(), reason.c_str());
 }
 
 void SimulationNode::OnApplyForce(const msm_sim::ContactForce::ConstPtr& message) {
-  const int object = FindObject(message->object);
-  if (object < 0) {
-    ROS_WARN_THROTTLE(1.0, "msm_sim: ~apply_force: unknown object '%s'; dropped",
-                      message->object.c_str());
-    return;
-  }
-  const Eigen::Vector3d point(message->point.x, message->point.y, message->point.z);
-  const Eigen::Vector3d force(message->force.x, message->force.y, message->force.z);
-  if (!point.allFinite() || !force.allFinite() || !std::isfinite(message->radius) ||
-      !std::isfinite(message->duration)) {
-    ROS_WARN_THROTTLE(1.0,
-                      "msm_sim: ~apply_force: NaN or Inf in point, force, radius or "
-                      "duration; dropped");
-    return;
-  }
-  if (message->radius < 0.0 || message->duration < 0.0) {
-    ROS_WARN_THROTTLE(1.0, "msm_sim: ~apply_force: negative radius or duration; dropped");
-    return;
-  }
-  if (force.norm() > config_.world.max_force) {
-    ROS_WARN_THROTTLE(1.0,
-                      "msm_sim: ~apply_force: |force| = %g N exceeds ~world/max_force = %g N "
-                      "(absurd magnitude); dropped",
-                      force.norm(), config_.world.max_force);
-    return;
-  }
-  Eigen::Isometry3d to_world;
-  std::string error;
-  if (!LookUp(message->header.frame_id, message->header.stamp, &to_world, &error)) {
-    ROS_WARN_THROTTLE(1.0, "msm_sim: ~apply_force: unknown frame '%s' (%s); dropped",
-                      message->header.frame_id.c_str(), error.c_str());
-    return;
-  }
-  world_.ApplyForce(objects_[object].body, to_world * point, to_world.linear() * force,
-                    message->radius, message->duration);
+  const std::string problem = simulation_->ApplyForce(*message, tf_buffer_);
+  if (!problem.empty()) WarnDropped("~apply_force", problem);
 }
 
 void SimulationNode::OnWrench(std::size_t index,
                               const geometry_msgs::WrenchStamped::ConstPtr& message) {
-  WrenchInput& input = wrench_inputs_[index];
-  const Eigen::Vector3d force(message->wrench.force.x, message->wrench.force.y,
-                              message->wrench.force.z);
-  const Eigen::Vector3d torque(message->wrench.torque.x, message->wrench.torque.y,
-                               message->wrench.torque.z);
-  if (!force.allFinite() || !torque.allFinite()) {
-    ROS_WARN_THROTTLE(1.0, "msm_sim: %s: NaN or Inf in the wrench; dropped",
-                      input.config.topic.c_str());
-    return;
+  const std::string problem = simulation_->SetWrench(index, *message, ros::Time::now(), tf_buffer_);
+  if (!problem.empty()) {
+    WarnDropped(simulation_->config().wrench_inputs[index].topic, problem);
   }
-  if (force.norm() > config_.world.max_force) {
-    ROS_WARN_THROTTLE(1.0, "msm_sim: %s: |force| = %g N exceeds ~world/max_force; dropped",
-                      input.config.topic.c_str(), force.norm());
-    return;
-  }
-  Eigen::Isometry3d to_world;
-  std::string error;
-  if (!LookUp(message->header.frame_id, message->header.stamp, &to_world, &error)) {
-    ROS_WARN_THROTTLE(1.0, "msm_sim: %s: unknown frame '%s' (%s); dropped",
-                      input.config.topic.c_str(), message->header.frame_id.c_str(), error.c_str());
-    return;
-  }
-  input.active = true;
-  input.received = ros::Time::now();
-  input.point = to_world.translation();
-  input.force = to_world.linear() * force;
-  input.torque = to_world.linear() * torque;
 }
 
 bool SimulationNode::OnReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
-  world_.Reset();
-  for (WrenchInput& input : wrench_inputs_) input.active = false;
+  simulation_->Reset();
   origin_ = ros::Time::now();
-  for (auto& sums : contact_sums_) std::fill(sums.begin(), sums.end(), ContactSum{});
-  contact_time_ = 0.0;
   response.success = true;
   response.message = "every object is back at rest in its rest shape";
   return true;
@@ -641,7 +144,7 @@ bool SimulationNode::OnPause(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
 
 bool SimulationNode::OnResume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   paused_ = false;
-  origin_ = ros::Time::now() - ros::Duration(world_.time());
+  origin_ = ros::Time::now() - ros::Duration(simulation_->time());
   response.success = true;
   response.message = "running";
   return true;
@@ -649,34 +152,13 @@ bool SimulationNode::OnResume(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
 
 bool SimulationNode::OnSetMaterial(msm_sim::SetMaterial::Request& request,
                                    msm_sim::SetMaterial::Response& response) {
-  const int index = FindObject(request.object);
-  if (index < 0) {
-    response.success = false;
-    response.message = "unknown object '" + request.object + "'";
-    return true;
-  }
-  Object& object = objects_[index];
-  try {
-    const core::Material material =
-        core::Material::FromYoungsPoisson(request.youngs, request.poisson, request.density);
-    ObjectConfig config = object.config;
-    config.youngs = request.youngs;
-    config.poisson = request.poisson;
-    config.density = request.density;
-    config.damping = request.damping;
-    config.friction = request.friction;
-    if (!(config.damping >= 0.0) || !(config.friction >= 0.0) || !std::isfinite(config.damping) ||
-        !std::isfinite(config.friction)) {
-      throw std::invalid_argument("damping and friction must be finite and >= 0");
-    }
-    world_.ReplaceModel(object.body, BuildObjectModel(config, material), BodyOptionsOf(config));
-    object.config = config;
-    response.success = true;
-    response.message = "'" + request.object + "' recalibrated: " + material.Describe();
-  } catch (const std::exception& e) {
-    response.success = false;
-    response.message = e.what();
-  }
+  std::string described;
+  const std::string problem =
+      simulation_->SetMaterial(request.object, request.youngs, request.poisson, request.density,
+                               request.damping, request.friction, &described);
+  response.success = problem.empty();
+  response.message =
+      problem.empty() ? "'" + request.object + "' recalibrated: " + described : problem;
   return true;
 }
 

@@ -1,0 +1,106 @@
+#pragma once
+// The simulation a node (live) or msm_replay (offline) runs: the configured objects and robot
+// in a core World, the conversion of input messages into forces and of the state into output
+// messages. It holds no publishers, subscribers or timers, so both front ends run the same code
+// and get the same outputs from the same inputs.
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <geometry_msgs/TransformStamped.h>
+#include <geometry_msgs/WrenchStamped.h>
+#include <msm_sim/ContactArray.h>
+#include <msm_sim/ContactForce.h>
+#include <ros/time.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2/buffer_core.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "msm_sim/core/surface_skin.h"
+#include "msm_sim/core/world.h"
+#include "robot_colliders.h"
+#include "simulation_config.h"
+
+namespace msm_sim::node {
+
+class Simulation {
+ public:
+  /// Builds every object and the robot (from the URDF text `robot_description`; empty: none
+  /// given). Throws ConfigError for a configuration it cannot run.
+  Simulation(const SimulationConfig& config, const std::string& robot_description);
+
+  const SimulationConfig& config() const { return config_; }
+  double time() const { return world_.time(); }
+
+  // Inputs. Each returns an empty string when the message was used, else why it was dropped.
+  std::string ApplyForce(const msm_sim::ContactForce& message, const tf2::BufferCore& tf);
+  std::string SetWrench(std::size_t input, const geometry_msgs::WrenchStamped& message,
+                        const ros::Time& now, const tf2::BufferCore& tf);
+  /// Robot link poses from tf at `now`.
+  void UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now);
+  /// Steps `seconds` of simulation (whole time steps), stopping early after `deadline` (zero:
+  /// none); `now` (ROS time) ages the held wrench inputs.
+  void Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline);
+  void Reset();
+  /// Recalibrates an object; returns an empty string or why it was refused.
+  std::string SetMaterial(const std::string& object, double youngs, double poisson, double density,
+                          double damping, double friction, std::string* described);
+
+  // Outputs, stamped `stamp`. Contacts and link wrenches average everything since the last call
+  // of Contacts (which then starts a new interval).
+  visualization_msgs::MarkerArray Markers(const ros::Time& stamp) const;
+  msm_sim::ContactArray Contacts(const ros::Time& stamp,
+                                 std::vector<geometry_msgs::WrenchStamped>* link_wrenches);
+  sensor_msgs::PointCloud2 State(const ros::Time& stamp) const;
+  std::vector<geometry_msgs::TransformStamped> Frames(const ros::Time& stamp) const;
+  /// `wall_seconds`: wall time since the last call, for the real-time factor (0: not shown).
+  diagnostic_msgs::DiagnosticArray Diagnostics(const ros::Time& stamp, double wall_seconds,
+                                               bool paused);
+
+  const RobotColliders& robot() const { return *robot_; }
+
+ private:
+  struct Object {
+    ObjectConfig config;
+    int body = 0;
+    std::shared_ptr<const core::SurfaceSkin> skin;
+    std::vector<std::string> clamp_names;  // wrench index = colliders + position here
+    Eigen::VectorXd rest_edge_lengths;     // of the surface's triangle edges, for colouring
+  };
+  struct ContactSum {
+    Eigen::Vector3d force_time = Eigen::Vector3d::Zero();
+    Eigen::Vector3d torque_time = Eigen::Vector3d::Zero();
+    Eigen::Vector3d weighted_centroid = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    long microcollisions = 0;
+  };
+  struct WrenchInput {
+    WrenchInputConfig config;
+    int object = 0;
+    bool active = false;
+    ros::Time received;
+    Eigen::Vector3d point, force, torque;  // world frame
+  };
+
+  int FindObject(const std::string& name) const;
+  bool LookUp(const tf2::BufferCore& tf, const std::string& frame, const ros::Time& stamp,
+              Eigen::Isometry3d* transform, std::string* error) const;
+  core::BodyOptions BodyOptionsOf(const ObjectConfig& config) const;
+
+  SimulationConfig config_;
+  core::World world_;
+  std::vector<Object> objects_;
+  std::unique_ptr<RobotColliders> robot_;
+  std::vector<WrenchInput> wrench_inputs_;
+  std::vector<std::vector<ContactSum>> contact_sums_;
+  double contact_time_ = 0.0;  // s of simulation summed into contact_sums_
+  long steps_ = 0, rejected_steps_ = 0, steps_since_report_ = 0;
+  int last_substeps_ = 0;
+  double step_wall_seconds_ = 0.0, simulated_since_report_ = 0.0;
+  std::string last_rejection_;
+};
+
+}  // namespace msm_sim::node
