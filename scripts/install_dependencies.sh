@@ -15,7 +15,7 @@ packages=(
   libtf2-geometry-msgs-dev libnodelet-dev libnodeletlib-dev libnodeletlib-tools pluginlib-dev
   python3-rostest librostest-dev python3-roslaunch
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
-  libcli11-dev nlohmann-json3-dev python3-matplotlib
+  libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-matplotlib
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # Test set-up: the mesh importer is checked against every model assimp ships.
   assimp-testmodels

@@ -180,9 +180,10 @@ void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now)
           "tf returns",
           link.name.c_str(), config_.tf_timeout);
     }
-    if (fresh && !link.live && link.has_pose) {
+    if (fresh && !link.live && link.was_live) {
       ROS_INFO("msm_sim: robot: tf for link '%s' is back; its contacts are on", link.name.c_str());
     }
+    link.was_live = link.was_live || fresh;
     link.live = fresh;
     for (const int c : link.colliders) world_->collider(c).enabled = fresh;
   }

@@ -24,6 +24,7 @@ class RobotColliders {
     ros::Time stamp;                                         // of the pose (0: static)
     bool has_pose = false;
     bool live = false;  // tf is fresh: contacts on
+    bool was_live = false;  // has been live before (for the "is back" message)
   };
 
   /// Adds a collider per collision element of the selected links of the URDF `description`

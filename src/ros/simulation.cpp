@@ -434,7 +434,7 @@ std::vector<geometry_msgs::TransformStamped> Simulation::Frames(const ros::Time&
 }
 
 diagnostic_msgs::DiagnosticArray Simulation::Diagnostics(const ros::Time& stamp, double wall,
-                                                         bool paused) {
+                                                         bool paused, bool timing) {
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = stamp;
   diagnostic_msgs::DiagnosticStatus status;
@@ -456,9 +456,11 @@ diagnostic_msgs::DiagnosticArray Simulation::Diagnostics(const ros::Time& stamp,
     return number.str();
   };
   add("simulated time [s]", text(world_.time()));
-  add("step time [ms]",
-      text(steps_since_report_ > 0 ? 1e3 * step_wall_seconds_ / steps_since_report_ : 0.0));
-  add("real-time factor", text(wall > 0.0 ? simulated_since_report_ / wall : 0.0));
+  if (timing) {
+    add("step time [ms]",
+        text(steps_since_report_ > 0 ? 1e3 * step_wall_seconds_ / steps_since_report_ : 0.0));
+    add("real-time factor", text(wall > 0.0 ? simulated_since_report_ / wall : 0.0));
+  }
   add("substeps per step", text(last_substeps_));
   add("steps", text(static_cast<double>(steps_)));
   add("rejected steps", text(static_cast<double>(rejected_steps_)));

@@ -56,9 +56,11 @@ class Simulation {
                                  std::vector<geometry_msgs::WrenchStamped>* link_wrenches);
   sensor_msgs::PointCloud2 State(const ros::Time& stamp) const;
   std::vector<geometry_msgs::TransformStamped> Frames(const ros::Time& stamp) const;
-  /// `wall_seconds`: wall time since the last call, for the real-time factor (0: not shown).
+  /// `wall_seconds`: wall time since the last call, for the real-time factor. Without
+  /// `timing` the wall-clock entries (step time, real-time factor) are left out, so that an
+  /// offline replay's outputs depend on its inputs only.
   diagnostic_msgs::DiagnosticArray Diagnostics(const ros::Time& stamp, double wall_seconds,
-                                               bool paused);
+                                               bool paused, bool timing = true);
 
   const RobotColliders& robot() const { return *robot_; }
 

@@ -255,18 +255,34 @@ std::string ResolveUri(const std::string& uri, const std::string& parameter) {
   return uri;
 }
 
+// A key of the parameter tree, as getParam would give it.
+static bool Get(XmlRpcValue& root, const std::string& key, XmlRpcValue* value) {
+  if (!Has(root, key)) return false;
+  *value = root[key];
+  return true;
+}
+
 SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
+  XmlRpcValue root;
+  if (!private_handle.getParam(private_handle.getNamespace(), root) ||
+      root.getType() != XmlRpcValue::TypeStruct) {
+    root = XmlRpcValue();
+  }
+  return LoadSimulationConfig(root);
+}
+
+SimulationConfig LoadSimulationConfig(XmlRpc::XmlRpcValue root) {
   SimulationConfig config;
   XmlRpcValue world;
-  if (private_handle.getParam("world", world)) {
+  if (Get(root, "world", &world)) {
     if (world.getType() != XmlRpcValue::TypeStruct) Fail("~world", "expected a dictionary");
     config.world = ReadWorld(world);
   }
   XmlRpcValue materials;
-  const bool has_materials = private_handle.getParam("materials", materials) &&
-                             materials.getType() == XmlRpcValue::TypeStruct;
+  const bool has_materials =
+      Get(root, "materials", &materials) && materials.getType() == XmlRpcValue::TypeStruct;
   XmlRpcValue objects;
-  if (!private_handle.getParam("objects", objects) || objects.getType() != XmlRpcValue::TypeArray ||
+  if (!Get(root, "objects", &objects) || objects.getType() != XmlRpcValue::TypeArray ||
       objects.size() == 0) {
     Fail("~objects", "missing: list at least one object (see config/default.yaml)");
   }
@@ -280,7 +296,7 @@ SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
     config.objects.push_back(std::move(object));
   }
   XmlRpcValue inputs;
-  if (private_handle.getParam("wrench_inputs", inputs)) {
+  if (Get(root, "wrench_inputs", &inputs)) {
     if (inputs.getType() != XmlRpcValue::TypeArray) Fail("~wrench_inputs", "expected a list");
     for (int i = 0; i < inputs.size(); ++i) {
       const std::string path = "~wrench_inputs[" + std::to_string(i) + "]";
@@ -295,7 +311,7 @@ SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
     }
   }
   XmlRpcValue robot;
-  if (private_handle.getParam("robot", robot)) {
+  if (Get(root, "robot", &robot)) {
     if (robot.getType() != XmlRpcValue::TypeStruct) Fail("~robot", "expected a dictionary");
     RobotConfig& r = config.robot;
     r.enabled = true;
@@ -323,7 +339,7 @@ SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
     }
   }
   XmlRpcValue markers;
-  if (private_handle.getParam("markers", markers)) {
+  if (Get(root, "markers", &markers)) {
     config.markers.colour_by_strain = Flag(markers, "colour_by_strain", true, "~markers");
     config.markers.strain_range = Positive(markers, "strain_range", 0.2, "~markers");
     config.markers.nodes = Flag(markers, "nodes", false, "~markers");

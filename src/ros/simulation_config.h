@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <ros/node_handle.h>
+#include <xmlrpcpp/XmlRpcValue.h>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -104,6 +105,10 @@ struct SimulationConfig {
 /// material) from the private namespace. Mesh URIs (package://, file://, plain paths) are
 /// resolved to paths. Throws ConfigError.
 SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle);
+
+/// The same from a parameter tree (a dictionary with the keys world, objects, ...), e.g. a YAML
+/// file read by msm_replay.
+SimulationConfig LoadSimulationConfig(XmlRpc::XmlRpcValue root);
 
 /// Resolves package://pkg/path, file:///path or a plain path; throws ConfigError naming
 /// `parameter` for an unknown package.
