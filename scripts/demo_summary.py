@@ -33,7 +33,8 @@ class Summary:
                 elif entry.key == "simulated time [s]":
                     self.simulated = float(entry.value)
                 elif entry.key.startswith("energy "):
-                    self.energy[entry.key[len("energy "):]] = float(entry.value)
+                    name = entry.key[len("energy "):].replace(" [J]", "")
+                    self.energy[name] = float(entry.value)
 
 
 def main():
