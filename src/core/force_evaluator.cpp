@@ -1,6 +1,9 @@
 #include "msm_sim/core/force_evaluator.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include <omp.h>
 
 namespace msm_sim::core {
 
@@ -86,21 +89,46 @@ inline double DampingTension(const ForceEvaluator::Damping& damping, const Sprin
 
 }  // namespace
 
+template <typename Body>
+void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&& body) {
+  const int count = model_->num_springs();
+  const int threads = count >= kParallelSprings ? std::min(omp_get_max_threads(), kMaxThreads) : 1;
+  if (threads <= 1) {
+    body(0, count, target);
+    return;
+  }
+  // Each thread takes a fixed, contiguous share of the springs (they are numbered node by node,
+  // so the shares touch mostly different nodes) and scatters into its own buffer; the buffers
+  // are added in thread order, so a given thread count always gives the same sums.
+  scratch_.resize(threads - 1);
+  for (Eigen::VectorXd& buffer : scratch_) buffer.setZero(target_size);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    const int begin = static_cast<int>(static_cast<long long>(count) * t / threads);
+    const int end = static_cast<int>(static_cast<long long>(count) * (t + 1) / threads);
+    body(begin, end, t == 0 ? target : scratch_[t - 1].data());
+  }
+  Eigen::Map<Eigen::VectorXd> sum(target, target_size);
+  for (const Eigen::VectorXd& buffer : scratch_) sum += buffer;
+}
+
 template <SpringLaw Law, bool Damped>
 void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
-  double* __restrict f = forces->data();
   double* __restrict total = total_tensions_.data();
-  for (int s = 0; s < model_->num_springs(); ++s) {
-    double r[3];
-    const double length = Separation(x, springs.a[s], springs.b[s], r);
-    double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
-    if constexpr (Damped) t += DampingTension(damping, springs, s, r, length);
-    total[s] = t;
-    ApplyPair(f, springs.a[s], springs.b[s], t / length, r);
-  }
+  ForSprings(forces->data(), forces->size(), [&](int begin, int end, double* __restrict f) {
+    for (int s = begin; s < end; ++s) {
+      double r[3];
+      const double length = Separation(x, springs.a[s], springs.b[s], r);
+      double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+      if constexpr (Damped) t += DampingTension(damping, springs, s, r, length);
+      total[s] = t;
+      ApplyPair(f, springs.a[s], springs.b[s], t / length, r);
+    }
+  });
 }
 
 template <SpringLaw Law>
@@ -111,17 +139,19 @@ void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
   const double* __restrict inflow_b = inflow_b_.data();
   double* __restrict tensions = tensions_.data();
   double* __restrict inverse_lengths = inverse_lengths_.data();
-  double* __restrict accumulator = accumulator_.data();
   accumulator_.setZero();
-  for (int s = 0; s < model_->num_springs(); ++s) {
-    double r[3];
-    const double length = Separation(x, springs.a[s], springs.b[s], r);
-    const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
-    tensions[s] = t;
-    inverse_lengths[s] = 1.0 / length;
-    accumulator[springs.a[s]] += inflow_a[s] * t;
-    accumulator[springs.b[s]] += inflow_b[s] * t;
-  }
+  ForSprings(accumulator_.data(), accumulator_.size(),
+             [&](int begin, int end, double* __restrict accumulator) {
+               for (int s = begin; s < end; ++s) {
+                 double r[3];
+                 const double length = Separation(x, springs.a[s], springs.b[s], r);
+                 const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+                 tensions[s] = t;
+                 inverse_lengths[s] = 1.0 / length;
+                 accumulator[springs.a[s]] += inflow_a[s] * t;
+                 accumulator[springs.b[s]] += inflow_b[s] * t;
+               }
+             });
 }
 
 template <bool Damped>
@@ -135,18 +165,19 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Dampin
   const double* __restrict tensions = tensions_.data();
   const double* __restrict inverse_lengths = inverse_lengths_.data();
   double* __restrict total = total_tensions_.data();
-  double* __restrict f = forces->data();
-  for (int s = 0; s < model_->num_springs(); ++s) {
-    const int a = springs.a[s];
-    const int b = springs.b[s];
-    double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
-    // Recomputing r from positions still in cache is cheaper than streaming stored directions.
-    double r[3];
-    for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
-    if constexpr (Damped) t += DampingTension(damping, springs, s, r, 1.0 / inverse_lengths[s]);
-    total[s] = t;
-    ApplyPair(f, a, b, t * inverse_lengths[s], r);
-  }
+  ForSprings(forces->data(), forces->size(), [&](int begin, int end, double* __restrict f) {
+    for (int s = begin; s < end; ++s) {
+      const int a = springs.a[s];
+      const int b = springs.b[s];
+      double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
+      // Recomputing r from positions still in cache is cheaper than streaming stored directions.
+      double r[3];
+      for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
+      if constexpr (Damped) t += DampingTension(damping, springs, s, r, 1.0 / inverse_lengths[s]);
+      total[s] = t;
+      ApplyPair(f, a, b, t * inverse_lengths[s], r);
+    }
+  });
 }
 
 template <SpringLaw Law, bool Damped>

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "msm_sim/core/baudet_lattice_builder.h"
 #include "msm_sim/core/cubic_lattice_builder.h"
@@ -223,6 +224,43 @@ TEST(ExtendedMsm, DispersionRatioRoundTripsAndMatchesLimits) {
   const Material m = Material::FromYoungsPoisson(1.0, 0.4, 1.0);
   EXPECT_NEAR(DispersionRatio(0.4),
               (m.lame_lambda() - m.shear_modulus()) / (5.0 / 3.0 * m.shear_modulus()), 1e-12);
+}
+
+}  // namespace
+}  // namespace msm_sim::core
+
+namespace msm_sim::core {
+namespace {
+
+// Large models evaluate their springs on two threads, each scattering into its own buffer: the
+// forces and tensions must equal the one-thread evaluation up to rounding, and repeat exactly.
+TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(0.4, 0.2, 0.15);
+  options.spacing = 0.01;  // 12,000 nodes, ~100k springs: above the parallel threshold
+  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), options);
+  ASSERT_GE(model.num_springs(), 50'000);
+  Eigen::Matrix3Xd x = model.rest_positions();
+  for (int i = 0; i < x.cols(); ++i)
+    x.col(i) += 1e-4 * Eigen::Vector3d(std::sin(i), std::cos(3.0 * i), std::sin(7.0 * i));
+  const Eigen::Matrix3Xd v = 0.01 * x;
+  auto evaluate = [&](int threads) {
+    omp_set_num_threads(threads);
+    ForceEvaluator evaluator(model);
+    Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+    evaluator.AccumulateForces(x, v, 1e-4, &f);
+    return std::make_pair(f, Eigen::VectorXd(evaluator.total_tensions()));
+  };
+  const auto serial = evaluate(1);
+  const auto parallel = evaluate(2);
+  const auto again = evaluate(2);
+  omp_set_num_threads(omp_get_num_procs());
+  EXPECT_LE((parallel.first - serial.first).cwiseAbs().maxCoeff(),
+            1e-12 * serial.first.cwiseAbs().maxCoeff());
+  // The dispersed part of a tension sums a node's accumulator in another order: rounding only.
+  EXPECT_LE((parallel.second - serial.second).cwiseAbs().maxCoeff(),
+            1e-12 * serial.second.cwiseAbs().maxCoeff());
+  EXPECT_EQ(again.first, parallel.first);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "msm_sim/core/model.h"
@@ -72,6 +74,16 @@ class ForceEvaluator {
   };
 
  private:
+  // Models with at least this many springs evaluate them on up to kMaxThreads threads (OpenMP):
+  // the passes are memory-bound gathers and scatters, which two cores share well; small models
+  // would lose more to the threads' start than they gain.
+  static constexpr int kParallelSprings = 50'000;
+  static constexpr int kMaxThreads = 2;
+  /// Runs body(begin, end, scatter_target) over the springs, in fixed per-thread shares for
+  /// large models, each thread scattering into its own copy of `target` (summed afterwards).
+  template <typename Body>
+  void ForSprings(double* target, Eigen::Index target_size, Body&& body);
+
   template <bool Damped>
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                   Eigen::Matrix3Xd* forces);
@@ -107,7 +119,8 @@ class ForceEvaluator {
   bool has_previous_dispersion_ = false;
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
   Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;  // dt / dL per spring (linearisation)
+  Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
+  std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
 };
 
 }  // namespace msm_sim::core
