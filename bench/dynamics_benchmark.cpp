@@ -23,14 +23,9 @@ void BM_DynamicsStep12k(benchmark::State& state) {
   BodyOptions options;
   options.damping_beta = 1e-4;
   const int body = world.AddBody("block", model, options);
-  double lowest = 1e300;
-  for (std::size_t k = 0; k < world.border(body).nodes.size(); ++k) {
-    lowest = std::min(lowest, model->rest_positions()(2, world.border(body).nodes[k]) -
-                                  world.border(body).radii[k]);
-  }
   Collider ground;
   ground.name = "ground";
-  ground.pose.translation().z() = lowest;
+  ground.pose.translation().z() = LowestSphereBottom(model->rest_positions(), world.border(body));
   world.AddCollider(ground);
   const double step = world.stable_time_step();
   for (int settle = 0; settle < 200; ++settle) world.Step(step);  // in contact, loaded

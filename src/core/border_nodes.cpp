@@ -1,5 +1,8 @@
 #include "msm_sim/core/border_nodes.h"
 
+#include <algorithm>
+#include <limits>
+
 #include <Eigen/Core>
 
 namespace msm_sim::core {
@@ -24,6 +27,14 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance) {
     border.radii.push_back(count > 0 ? half_lengths / count : 0.5 * model.characteristic_length());
   }
   return border;
+}
+
+double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& border) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    lowest = std::min(lowest, positions(2, border.nodes[k]) - border.radii[k]);
+  }
+  return lowest;
 }
 
 }  // namespace msm_sim::core

@@ -30,11 +30,7 @@ SlideTestResult RunSlideTest(std::shared_ptr<const Model> model, const SlideTest
   const int body = world.AddBody("body", model, body_options);
 
   // The ground touches the collision sphere of the lowest border node.
-  const BorderNodes& border = world.border(body);
-  double ground = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
-    ground = std::min(ground, model->rest_positions()(2, border.nodes[k]) - border.radii[k]);
-  }
+  const double ground = LowestSphereBottom(model->rest_positions(), world.border(body));
   Collider plane;
   plane.name = "ground";
   plane.friction = options.friction;

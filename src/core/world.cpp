@@ -46,6 +46,28 @@ struct NodeContact {
 
 }  // namespace
 
+World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
+                  const BodyOptions& body_options, double time_step_safety)
+    : name(body_name),
+      model(std::move(body_model)),
+      options(body_options),
+      state(State::AtRest(*model)),
+      evaluator(*model, body_options.dispersion),
+      border(FindBorderNodes(*model)),
+      constrained(model->num_nodes(), 0),
+      inverse_masses(model->masses().cwiseInverse()),
+      forces(Eigen::Matrix3Xd::Zero(3, model->num_nodes())) {
+  const double longest = model->num_springs() > 0
+                             ? *std::max_element(model->spring_rest_length().begin(),
+                                                 model->spring_rest_length().end())
+                             : model->characteristic_length();
+  self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
+  StableTimeStepOptions step;
+  step.damping_beta = body_options.damping_beta;
+  step.safety = time_step_safety;
+  stable_step = StableTimeStep(*model, step);
+}
+
 void World::ImpulseSum::Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
                             const Eigen::Vector3d& on_collider) {
   const double magnitude = on_collider.norm();
@@ -78,18 +100,9 @@ int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
                    const BodyOptions& options) {
   Require(model != nullptr, "body '" + name + "' has no model");
   ValidateBodyOptions(name, options);
-  Body body(name, model, options);
-  const double longest = model->num_springs() > 0
-                             ? *std::max_element(model->spring_rest_length().begin(),
-                                                 model->spring_rest_length().end())
-                             : model->characteristic_length();
-  body.self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
+  Body body(name, model, options, options_.time_step_safety);
   body.pair_friction.assign(colliders_.size(), -1.0);
   body.wrenches.assign(colliders_.size(), ContactWrench{});
-  StableTimeStepOptions step;
-  step.damping_beta = options.damping_beta;
-  step.safety = options_.time_step_safety;
-  body.stable_step = StableTimeStep(*model, step);
   bodies_.push_back(std::move(body));
   return static_cast<int>(bodies_.size()) - 1;
 }
@@ -189,7 +202,7 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
   Require(model->num_nodes() == old.model->num_nodes(),
           "the new model has " + std::to_string(model->num_nodes()) + " nodes, the body " +
               std::to_string(old.model->num_nodes()));
-  Body body(old.name, model, options);
+  Body body(old.name, model, options, options_.time_step_safety);
   body.state = old.state;
   body.groups = old.groups;
   body.constrained = old.constrained;
@@ -197,15 +210,6 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
   body.pending = old.pending;
   body.pair_friction = old.pair_friction;
   body.wrenches = old.wrenches;
-  const double longest = model->num_springs() > 0
-                             ? *std::max_element(model->spring_rest_length().begin(),
-                                                 model->spring_rest_length().end())
-                             : model->characteristic_length();
-  body.self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
-  StableTimeStepOptions step;
-  step.damping_beta = options.damping_beta;
-  step.safety = options_.time_step_safety;
-  body.stable_step = StableTimeStep(*model, step);
   bodies_[body_index] = std::move(body);
 }
 
@@ -242,6 +246,15 @@ Eigen::Isometry3d World::GroupPose(const Group& group, double t) const {
   return group.spec.pose ? group.spec.pose(t) : group.initial_pose;
 }
 
+void World::PlaceGroups(Body* body, double t) const {
+  for (const Group& group : body->groups) {
+    const Eigen::Isometry3d pose = GroupPose(group, t);
+    for (std::size_t k = 0; k < group.spec.nodes.size(); ++k) {
+      body->state.positions.col(group.spec.nodes[k]) = pose * Eigen::Vector3d(group.local.col(k));
+    }
+  }
+}
+
 Energies World::ComputeEnergies(int body_index) const {
   const Body& body = bodies_.at(body_index);
   const Eigen::VectorXd& m = body.model->masses();
@@ -264,12 +277,7 @@ void World::Reset() {
     body.state = State::AtRest(*body.model);
     body.pending.clear();
     body.pushes.clear();
-    for (Group& group : body.groups) {
-      const Eigen::Isometry3d pose = GroupPose(group, 0.0);
-      for (std::size_t k = 0; k < group.spec.nodes.size(); ++k) {
-        body.state.positions.col(group.spec.nodes[k]) = pose * Eigen::Vector3d(group.local.col(k));
-      }
-    }
+    PlaceGroups(&body, 0.0);
     std::fill(body.wrenches.begin(), body.wrenches.end(), ContactWrench{});
   }
   time_ = 0.0;
@@ -368,12 +376,7 @@ void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
   // 1. Half a drift; kinematic nodes go where their frame is at mid-substep.
   for (Body& body : bodies_) {
     body.state.positions += (0.5 * h) * body.state.velocities;
-    for (const Group& group : body.groups) {
-      const Eigen::Isometry3d pose = GroupPose(group, t0 + 0.5 * h);
-      for (std::size_t k = 0; k < group.spec.nodes.size(); ++k) {
-        body.state.positions.col(group.spec.nodes[k]) = pose * Eigen::Vector3d(group.local.col(k));
-      }
-    }
+    PlaceGroups(&body, t0 + 0.5 * h);
     // 2. The rest of last substep's contact response.
     for (const PendingResponse& response : body.pending) {
       body.state.velocities.col(response.node) += response.delta_v;
@@ -453,12 +456,7 @@ void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
       body.fastest_speed_sq = fastest;
       body.fastest_node = fastest_node;
     }
-    for (const Group& group : body.groups) {
-      const Eigen::Isometry3d pose = GroupPose(group, t0 + h);
-      for (std::size_t k = 0; k < group.spec.nodes.size(); ++k) {
-        body.state.positions.col(group.spec.nodes[k]) = pose * Eigen::Vector3d(group.local.col(k));
-      }
-    }
+    PlaceGroups(&body, t0 + h);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <tf2/exceptions.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "conversions.h"
 #include "msm_sim/core/mesh_import.h"
 #include "msm_sim/core/solid_mesh.h"
 
@@ -134,12 +135,7 @@ void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now)
     try {
       const geometry_msgs::TransformStamped transform =
           buffer.lookupTransform(world_frame_, link.name, ros::Time(0));
-      const geometry_msgs::Transform& t = transform.transform;
-      Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-      pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-      pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
-                          .normalized()
-                          .toRotationMatrix();
+      const Eigen::Isometry3d pose = ToIsometry(transform.transform);
       const ros::Time stamp = transform.header.stamp;
       // Static transforms carry stamp 0 and never go stale.
       fresh = stamp.isZero() || (now - stamp).toSec() <= config_.tf_timeout;

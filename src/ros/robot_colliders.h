@@ -23,7 +23,7 @@ class RobotColliders {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // link in the world frame
     ros::Time stamp;                                         // of the pose (0: static)
     bool has_pose = false;
-    bool live = false;  // tf is fresh: contacts on
+    bool live = false;      // tf is fresh: contacts on
     bool was_live = false;  // has been live before (for the "is back" message)
   };
 

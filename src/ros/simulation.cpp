@@ -7,6 +7,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 #include <tf2/exceptions.h>
 
+#include "conversions.h"
 #include "object_builder.h"
 
 namespace msm_sim::node {
@@ -19,22 +20,6 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   core::WorldOptions options;
   options.gravity = config.gravity;
   return options;
-}
-
-geometry_msgs::Point ToPoint(const Eigen::Vector3d& v) {
-  geometry_msgs::Point p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
-}
-
-geometry_msgs::Vector3 ToVector(const Eigen::Vector3d& v) {
-  geometry_msgs::Vector3 p;
-  p.x = v.x();
-  p.y = v.y();
-  p.z = v.z();
-  return p;
 }
 
 // Blue (compressed) - a light silicone tone (unstrained) - red (stretched).
@@ -50,16 +35,6 @@ std_msgs::ColorRGBA StrainColour(double strain, double range) {
   colour.b = c.z();
   colour.a = 1.0;
   return colour;
-}
-
-Eigen::Isometry3d ToIsometry(const geometry_msgs::TransformStamped& stamped) {
-  const geometry_msgs::Transform& t = stamped.transform;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
-  pose.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
-                      .normalized()
-                      .toRotationMatrix();
-  return pose;
 }
 
 }  // namespace
@@ -490,12 +465,13 @@ bool Simulation::LookUp(const tf2::BufferCore& tf, const std::string& frame, con
     return true;
   }
   try {
-    *transform = ToIsometry(tf.lookupTransform(config_.world.frame, frame, stamp));
+    *transform = ToIsometry(tf.lookupTransform(config_.world.frame, frame, stamp).transform);
     return true;
   } catch (const tf2::TransformException& e) {
     // A stamp tf has not reached yet: take the latest.
     try {
-      *transform = ToIsometry(tf.lookupTransform(config_.world.frame, frame, ros::Time(0)));
+      *transform =
+          ToIsometry(tf.lookupTransform(config_.world.frame, frame, ros::Time(0)).transform);
       return true;
     } catch (const tf2::TransformException& latest) {
       *error = latest.what();
@@ -504,13 +480,12 @@ bool Simulation::LookUp(const tf2::BufferCore& tf, const std::string& frame, con
   }
 }
 
-void Simulation::Advance(double seconds, const ros::Time& now_time, const ros::WallTime& deadline) {
+void Simulation::Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline) {
   const double dt = config_.world.time_step;
   const int steps = static_cast<int>(std::floor(seconds / dt + 1e-9));
   for (int k = 0; k < steps; ++k) {
     if (!deadline.isZero() && ros::WallTime::now() > deadline) break;
     // Wrench topics hold their last value until it goes stale.
-    const ros::Time& now = now_time;
     for (WrenchInput& input : wrench_inputs_) {
       if (!input.active) continue;
       if ((now - input.received).toSec() > kWrenchHoldSeconds) {

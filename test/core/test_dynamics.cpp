@@ -178,12 +178,7 @@ std::shared_ptr<const Model> Block(double size, double spacing, double youngs = 
 }
 
 double LowestSphere(const World& world, int body) {
-  double lowest = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < world.border(body).nodes.size(); ++k) {
-    lowest = std::min(lowest, world.state(body).positions(2, world.border(body).nodes[k]) -
-                                  world.border(body).radii[k]);
-  }
-  return lowest;
+  return LowestSphereBottom(world.state(body).positions, world.border(body));
 }
 
 // Two blocks stacked on the ground (the top one dropped from 5 mm, shifted by a quarter of a

@@ -1,6 +1,5 @@
 // Runs the real msm_lab executable and checks the command-line contract: outputs, error lines and
 // exit codes (0 ok, 1 failed run, 2 bad arguments; never a signal).
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -13,35 +12,17 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "../run_command.h"
 #include "lab_arguments.h"
 #include "msm_sim/core/mesh_import.h"
 #include "msm_sim/core/model_file.h"
 
 namespace {
 
-struct LabRun {
-  int exit_code = -1;
-  bool signalled = false;
-  std::string out;
-  std::string err;
-};
+using LabRun = msm_sim::testing::CommandRun;
 
 LabRun RunLab(const std::string& arguments) {
-  const std::string err_file = ::testing::TempDir() + "msm_lab_stderr.txt";
-  const std::string command = std::string(MSM_LAB_EXECUTABLE) + " " + arguments + " 2>" + err_file;
-  LabRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::array<char, 4096> buffer{};
-  std::size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  run.signalled = WIFSIGNALED(status);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_file);
-  std::stringstream text;
-  text << err.rdbuf();
-  run.err = text.str();
-  return run;
+  return msm_sim::testing::RunCommand(std::string(MSM_LAB_EXECUTABLE) + " " + arguments);
 }
 
 int CountLines(const std::string& text) {

@@ -1,6 +1,5 @@
 // msm_replay (issue "rosbag"): determinism, the regression against a stored expectation, and
 // the command-line contract. Runs the real executable on test/data/demo_input.bag.
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <array>
@@ -18,6 +17,8 @@
 #include <rosbag/view.h>
 #include <std_msgs/String.h>
 
+#include "../run_command.h"
+
 namespace {
 
 const std::string kData = MSM_SIM_TEST_DATA_DIR;
@@ -25,25 +26,10 @@ const std::string kPackage = MSM_SIM_PACKAGE_DIR;
 const std::string kScene = " --config " + kPackage + "/config/default.yaml --config " + kPackage +
                            "/config/demo.yaml --materials " + kPackage + "/config/materials.yaml";
 
-struct ReplayRun {
-  int exit_code = -1;
-  bool signalled = false;
-  std::string err;
-};
+using ReplayRun = msm_sim::testing::CommandRun;
 
 ReplayRun Replay(const std::string& arguments) {
-  const std::string err_file = ::testing::TempDir() + "msm_replay_stderr.txt";
-  const std::string command =
-      std::string(MSM_REPLAY_EXECUTABLE) + " " + arguments + " >/dev/null 2>" + err_file;
-  ReplayRun run;
-  const int status = std::system(command.c_str());
-  run.signalled = WIFSIGNALED(status);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  std::ifstream err(err_file);
-  std::stringstream text;
-  text << err.rdbuf();
-  run.err = text.str();
-  return run;
+  return msm_sim::testing::RunCommand(std::string(MSM_REPLAY_EXECUTABLE) + " " + arguments);
 }
 
 // Every message of a bag: topic, time and serialized bytes.

@@ -2,6 +2,8 @@
 
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "msm_sim/core/model.h"
 
 namespace msm_sim::core {
@@ -18,5 +20,9 @@ struct BorderNodes {
 /// when it has fewer than 4 springs. Interior nodes cannot reach a surface without a border node
 /// touching it first, so only border nodes are tested. Precondition: imbalance in (0, 1).
 BorderNodes FindBorderNodes(const Model& model, double imbalance = 0.25);
+
+/// Lowest z (m) reached by any border node's collision sphere with the nodes at `positions`
+/// (3 x N): where a ground plane just touches the body. +infinity without border nodes.
+double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& border);
 
 }  // namespace msm_sim::core

@@ -172,17 +172,10 @@ class World {
              const Eigen::Vector3d& on_collider);
   };
   struct Body {
+    /// At rest, with everything derived from the model: border, stable step (for the World's
+    /// safety factor), the self-contact distance.
     Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
-         const BodyOptions& body_options)
-        : name(body_name),
-          model(std::move(body_model)),
-          options(body_options),
-          state(State::AtRest(*model)),
-          evaluator(*model, body_options.dispersion),
-          border(FindBorderNodes(*model)),
-          constrained(model->num_nodes(), 0),
-          inverse_masses(model->masses().cwiseInverse()),
-          forces(Eigen::Matrix3Xd::Zero(3, model->num_nodes())) {}
+         const BodyOptions& body_options, double time_step_safety);
     std::string name;
     std::shared_ptr<const Model> model;
     BodyOptions options;
@@ -210,6 +203,8 @@ class World {
   void CollideWithColliders(Body* body, int* microcollisions);
   void CollideNodes(int* microcollisions);
   Eigen::Isometry3d GroupPose(const Group& group, double t) const;
+  /// Puts a body's kinematic nodes where their frames are at time t.
+  void PlaceGroups(Body* body, double t) const;
   double Friction(const Body& body, int collider) const;
   std::string CheckSane() const;
   int microcollisions_ = 0;
