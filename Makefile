@@ -44,9 +44,12 @@ lab: build
 	source $(WS)/devel/setup.bash && rosrun msm_sim msm_lab compression --model cubic \
 	  --size 2 1 1 --spacing 0.0625 --youngs 1e5 --poisson 0.25 --density 1100
 
+# Tests run one at a time: the rostests pace nodes to ROS time, and two of them sharing the two
+# cores let a node fall behind the clock (it then drops simulated time and is not the
+# simulation the test expects; the robot drag test failed that way under -j2).
 test: build
 	rm -rf $(WS)/build/test_results
-	$(CATKIN_MAKE) $(JOBS) run_tests
+	$(CATKIN_MAKE) -j1 run_tests
 	catkin_test_results --verbose $(WS)/build/test_results
 
 bench: build
