@@ -2,11 +2,11 @@
 // nodes in under 10 s on two cores) and the cost of one force evaluation.
 #include <benchmark/benchmark.h>
 
-#include "msm_sim/core/baudet_lattice_builder.h"
-#include "msm_sim/core/compression_test.h"
-#include "msm_sim/core/cubic_lattice_builder.h"
-#include "msm_sim/core/force_evaluator.h"
-#include "msm_sim/core/random_lattice_builder.h"
+#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {
 namespace {
@@ -20,9 +20,9 @@ void BM_CompressionCubic16k(benchmark::State& state) {
   lattice.spacing = 0.05;
   for (auto _ : state) {
     const Model model = BuildCubicLattice(kMaterial, lattice);
-    CompressionTestOptions options;
+    CompressionExperimentOptions options;
     options.body_size = lattice.size;
-    const CompressionTestResult result = RunCompressionTest(model, options);
+    const CompressionExperimentResult result = RunCompressionExperiment(model, options);
     benchmark::DoNotOptimize(result.youngs_measured);
     state.counters["nodes"] = model.num_nodes();
     state.counters["E_rel_error"] = result.youngs_measured / 1e5 - 1.0;
@@ -38,9 +38,9 @@ void BM_CompressionRandom16k(benchmark::State& state) {
   lattice.max_distance = 1.9;
   for (auto _ : state) {
     const Model model = BuildRandomLattice(kMaterial, lattice);
-    CompressionTestOptions options;
+    CompressionExperimentOptions options;
     options.body_size = lattice.size;
-    const CompressionTestResult result = RunCompressionTest(model, options);
+    const CompressionExperimentResult result = RunCompressionExperiment(model, options);
     benchmark::DoNotOptimize(result.youngs_measured);
     state.counters["nodes"] = model.num_nodes();
     state.counters["E_rel_error"] = result.youngs_measured / 1e5 - 1.0;

@@ -4,8 +4,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "msm_sim/core/cubic_lattice_builder.h"
-#include "msm_sim/core/world.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/dynamics/world.h"
 
 namespace msm_sim::core {
 namespace {

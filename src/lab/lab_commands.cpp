@@ -9,20 +9,20 @@
 
 #include <nlohmann/json.hpp>
 
-#include "msm_sim/core/baudet_lattice_builder.h"
-#include "msm_sim/core/cantilever_test.h"
-#include "msm_sim/core/compression_test.h"
-#include "msm_sim/core/cubic_lattice_builder.h"
-#include "msm_sim/core/extended_msm.h"
-#include "msm_sim/core/mesh_import.h"
-#include "msm_sim/core/mesh_lattice_builder.h"
-#include "msm_sim/core/model_file.h"
-#include "msm_sim/core/model_statistics.h"
-#include "msm_sim/core/random_lattice_builder.h"
-#include "msm_sim/core/slide_test.h"
-#include "msm_sim/core/spring_law.h"
-#include "msm_sim/core/state.h"
-#include "msm_sim/core/vtk_export.h"
+#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/build/mesh_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/experiments/cantilever_experiment.h"
+#include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/experiments/slide_experiment.h"
+#include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/geometry/vtk_export.h"
+#include "msm_sim/material/extended_msm.h"
+#include "msm_sim/material/spring_law.h"
+#include "msm_sim/model/model_file.h"
+#include "msm_sim/model/model_statistics.h"
+#include "msm_sim/model/state.h"
 #include "sweep_plot.h"
 
 namespace msm_sim::lab {
@@ -86,14 +86,14 @@ void CheckStaticDispersion(const std::string& name) {
 
 struct CompressionRun {
   core::ModelStatistics stats;
-  core::CompressionTestResult result;
+  core::CompressionExperimentResult result;
 };
 
 CompressionRun Compress(const ModelArguments& model_arguments, double strain) {
   CheckStaticDispersion(model_arguments.dispersion);
   const LabBody body = LoadLabBody(model_arguments, true);
   const core::Model model = BuildLabModel(model_arguments, body);
-  core::CompressionTestOptions options;
+  core::CompressionExperimentOptions options;
   options.body_size = body.max - body.min;
   if (body.solid) {
     // E is the axial stress over the strain: the force through the middle plane over the area
@@ -102,13 +102,13 @@ CompressionRun Compress(const ModelArguments& model_arguments, double strain) {
         body.solid->surface(), 0.5 * (body.min + body.max), Eigen::Vector3d::UnitX());
   }
   options.strain = strain;
-  return {core::ComputeModelStatistics(model), core::RunCompressionTest(model, options)};
+  return {core::ComputeModelStatistics(model), core::RunCompressionExperiment(model, options)};
 }
 
 int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   const auto start = std::chrono::steady_clock::now();
   const CompressionRun run = Compress(arguments.model, arguments.strain);
-  const core::CompressionTestResult& result = run.result;
+  const core::CompressionExperimentResult& result = run.result;
   if (!result.solver.converged) return ReportSolverFailure(result.solver, err);
   const double seconds = Seconds(start);
   const double youngs = arguments.model.youngs;
@@ -209,10 +209,10 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
   CheckStaticDispersion(arguments.model.dispersion);
   const core::Model model = BuildLabModel(arguments.model, LoadLabBody(arguments.model, true));
   const core::ModelStatistics stats = core::ComputeModelStatistics(model);
-  core::CantileverTestOptions options;
+  core::CantileverExperimentOptions options;
   options.body_size = arguments.model.size;
   options.total_force = arguments.force;
-  const core::CantileverTestResult result = core::RunCantileverTest(model, options);
+  const core::CantileverExperimentResult result = core::RunCantileverExperiment(model, options);
   if (!result.solver.converged) return ReportSolverFailure(result.solver, err);
   const double seconds = Seconds(start);
 
@@ -327,13 +327,13 @@ int RunSlide(const LabArguments& arguments, std::ostream& out) {
   const auto start = std::chrono::steady_clock::now();
   const SlideArguments& slide = arguments.slide;
   const auto model = std::make_shared<const core::Model>(SlideBox(slide));
-  core::SlideTestOptions options;
+  core::SlideExperimentOptions options;
   options.initial_speed = slide.v0;
   options.friction = slide.mu;
   if (!(slide.v0 > 0.0) || !(slide.mu > 0.0) || !std::isfinite(slide.v0 + slide.mu)) {
     throw std::invalid_argument("--v0 and --mu must be finite and > 0");
   }
-  const core::SlideTestResult result = core::RunSlideTest(model, options);
+  const core::SlideExperimentResult result = core::RunSlideExperiment(model, options);
   const double seconds = Seconds(start);
   if (arguments.json) {
     Json json{{"command", "slide"},

@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 
 #include "lab_arguments.h"
-#include "msm_sim/core/model.h"
-#include "msm_sim/core/solid_mesh.h"
+#include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/model/model.h"
 
 namespace msm_sim::lab {
 

@@ -6,7 +6,7 @@
 #include <geometry_msgs/Vector3.h>
 #include <Eigen/Geometry>
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 inline geometry_msgs::Point ToPoint(const Eigen::Vector3d& v) {
   geometry_msgs::Point p;
@@ -33,4 +33,4 @@ inline Eigen::Isometry3d ToIsometry(const geometry_msgs::Transform& t) {
   return pose;
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -11,7 +11,7 @@
 
 int main(int argc, char** argv) {
   ros::Time::init();
-  msm_sim::node::ReplayOptions options;
+  msm_sim::ros_interface::ReplayOptions options;
   CLI::App app{"msm_replay: the msm_sim simulation replayed offline on a bag, as fast as possible",
                "msm_replay"};
   app.add_option("--config", options.config,
@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
   }
   options.progress = !quiet;
   try {
-    const msm_sim::node::ReplaySummary summary = msm_sim::node::RunReplay(options, std::cerr);
+    const msm_sim::ros_interface::ReplaySummary summary =
+        msm_sim::ros_interface::RunReplay(options, std::cerr);
     std::cout << "msm_replay: " << summary.seconds << " s of bag time, " << summary.inputs
               << " input messages used, " << summary.dropped << " dropped, " << summary.outputs
               << " output messages written to " << options.output << "\n";

@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
   // it the logging a fatal configuration error is reported through.
   ros::NodeHandle handle, private_handle("~");
   try {
-    msm_sim::node::SimulationNode node(handle, private_handle);
+    msm_sim::ros_interface::SimulationNode node(handle, private_handle);
     ros::spin();
   } catch (const std::exception& error) {
     ROS_FATAL("msm_sim: %s", error.what());

@@ -6,7 +6,7 @@
 
 #include "simulation_node.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 class SimulationNodelet : public nodelet::Nodelet {
  private:
@@ -21,6 +21,6 @@ class SimulationNodelet : public nodelet::Nodelet {
   std::unique_ptr<SimulationNode> simulation_;
 };
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface
 
-PLUGINLIB_EXPORT_CLASS(msm_sim::node::SimulationNodelet, nodelet::Nodelet)
+PLUGINLIB_EXPORT_CLASS(msm_sim::ros_interface::SimulationNodelet, nodelet::Nodelet)

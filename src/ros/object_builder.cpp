@@ -3,16 +3,16 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "msm_sim/core/baudet_lattice_builder.h"
-#include "msm_sim/core/mesh_import.h"
-#include "msm_sim/core/mesh_lattice_builder.h"
-#include "msm_sim/core/mesh_primitives.h"
-#include "msm_sim/core/model_transform.h"
-#include "msm_sim/core/node_selection.h"
-#include "msm_sim/core/random_lattice_builder.h"
-#include "msm_sim/core/solid_mesh.h"
+#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/build/mesh_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/model/model_transform.h"
+#include "msm_sim/model/node_selection.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 namespace {
 
 // The object's solid in its own frame.
@@ -102,4 +102,4 @@ BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {
   }
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

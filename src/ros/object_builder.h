@@ -8,12 +8,12 @@
 #include <utility>
 #include <vector>
 
-#include "msm_sim/core/material.h"
-#include "msm_sim/core/model.h"
-#include "msm_sim/core/triangle_mesh.h"
+#include "msm_sim/geometry/triangle_mesh.h"
+#include "msm_sim/material/material.h"
+#include "msm_sim/model/model.h"
 #include "simulation_config.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 struct BuiltObject {
   std::shared_ptr<const core::Model> model;  ///< rest positions in the world frame
@@ -30,4 +30,4 @@ BuiltObject BuildObject(const ObjectConfig& config, const std::string& path);
 std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
                                                     const core::Material& material);
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -17,7 +17,7 @@
 
 #include "simulation.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 namespace {
 
 // A YAML tree as the parameter server would hold it.
@@ -166,7 +166,7 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
       std::vector<geometry_msgs::WrenchStamped> links;
       write(ns + "/contacts", next_tick, simulation.Contacts(next_tick, &links));
       for (std::size_t l = 0; l < links.size(); ++l) write(link_topics[l], next_tick, links[l]);
-      write(ns + "/state", next_tick, simulation.State(next_tick));
+      write(ns + "/state", next_tick, simulation.NodeCloud(next_tick));
       tf2_msgs::TFMessage frames;
       frames.transforms = simulation.Frames(next_tick);
       write("/tf", next_tick, frames);
@@ -230,4 +230,4 @@ ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log) {
   return summary;
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 /// An input the replay cannot use; what() is one line saying what and which file.
 class ReplayError : public std::runtime_error {
@@ -39,4 +39,4 @@ struct ReplaySummary {
 /// Throws ReplayError (or ConfigError for the scene).
 ReplaySummary RunReplay(const ReplayOptions& options, std::ostream& log);
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -8,10 +8,10 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "conversions.h"
-#include "msm_sim/core/mesh_import.h"
-#include "msm_sim/core/solid_mesh.h"
+#include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/geometry/solid_mesh.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 namespace {
 
 Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
@@ -185,4 +185,4 @@ void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now)
   }
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -9,10 +9,10 @@
 #include <tf2/buffer_core.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/core/world.h"
+#include "msm_sim/dynamics/world.h"
 #include "simulation_config.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 class RobotColliders {
  public:
@@ -52,4 +52,4 @@ class RobotColliders {
   void Problem(const std::string& message);
 };
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -10,7 +10,7 @@
 #include "conversions.h"
 #include "object_builder.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 namespace {
 
 // Applied forces hold this long after their last message on a wrench topic.
@@ -347,7 +347,7 @@ msm_sim::ContactArray Simulation::Contacts(
   return array;
 }
 
-sensor_msgs::PointCloud2 Simulation::State(const ros::Time& stamp) const {
+sensor_msgs::PointCloud2 Simulation::NodeCloud(const ros::Time& stamp) const {
   sensor_msgs::PointCloud2 cloud;
   cloud.header.stamp = stamp;
   cloud.header.frame_id = config_.world.frame;
@@ -543,4 +543,4 @@ int Simulation::FindObject(const std::string& name) const {
   return -1;
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

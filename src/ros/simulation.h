@@ -19,12 +19,12 @@
 #include <tf2/buffer_core.h>
 #include <visualization_msgs/MarkerArray.h>
 
-#include "msm_sim/core/surface_skin.h"
-#include "msm_sim/core/world.h"
+#include "msm_sim/dynamics/world.h"
+#include "msm_sim/geometry/surface_skin.h"
 #include "robot_colliders.h"
 #include "simulation_config.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 class Simulation {
  public:
@@ -54,7 +54,8 @@ class Simulation {
   visualization_msgs::MarkerArray Markers(const ros::Time& stamp) const;
   msm_sim::ContactArray Contacts(const ros::Time& stamp,
                                  std::vector<geometry_msgs::WrenchStamped>* link_wrenches);
-  sensor_msgs::PointCloud2 State(const ros::Time& stamp) const;
+  /// Every node of every object (the ~state topic), with an `object` index field.
+  sensor_msgs::PointCloud2 NodeCloud(const ros::Time& stamp) const;
   std::vector<geometry_msgs::TransformStamped> Frames(const ros::Time& stamp) const;
   /// `wall_seconds`: wall time since the last call, for the real-time factor. Without
   /// `timing` the wall-clock entries (step time, real-time factor) are left out, so that an
@@ -105,4 +106,4 @@ class Simulation {
   std::string last_rejection_;
 };
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

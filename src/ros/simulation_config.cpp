@@ -8,7 +8,7 @@
 #include <ros/package.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 namespace {
 
 using XmlRpc::XmlRpcValue;
@@ -348,4 +348,4 @@ SimulationConfig LoadSimulationConfig(XmlRpc::XmlRpcValue root) {
   return config;
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -13,7 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 /// A configuration the node cannot run with; what() names the parameter and what is wrong.
 class ConfigError : public std::runtime_error {
@@ -114,4 +114,4 @@ SimulationConfig LoadSimulationConfig(XmlRpc::XmlRpcValue root);
 /// `parameter` for an unknown package.
 std::string ResolveUri(const std::string& uri, const std::string& parameter);
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

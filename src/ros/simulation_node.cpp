@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 std::string RobotDescriptionParameter(const RobotConfig& config) {
   if (!config.enabled) return {};
@@ -92,7 +92,7 @@ void SimulationNode::Publish(const ros::Time& stamp) {
   for (std::size_t l = 0; l < link_wrenches.size(); ++l) {
     link_wrenches_[l].publish(link_wrenches[l]);
   }
-  if (state_.getNumSubscribers() > 0) state_.publish(simulation_->State(stamp));
+  if (state_.getNumSubscribers() > 0) state_.publish(simulation_->NodeCloud(stamp));
   // With use_sim_time the timer can fire twice at one clock value; tf refuses repeated stamps.
   if (stamp > last_frame_stamp_) {
     last_frame_stamp_ = stamp;
@@ -162,4 +162,4 @@ bool SimulationNode::OnSetMaterial(msm_sim::SetMaterial::Request& request,
   return true;
 }
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

@@ -18,7 +18,7 @@
 
 #include "simulation.h"
 
-namespace msm_sim::node {
+namespace msm_sim::ros_interface {
 
 /// The robot description a node's configuration names, from the parameter server (searched
 /// upwards from the node's namespace); empty if there is none.
@@ -66,4 +66,4 @@ class SimulationNode {
   ros::WallTime last_publish_wall_;
 };
 
-}  // namespace msm_sim::node
+}  // namespace msm_sim::ros_interface

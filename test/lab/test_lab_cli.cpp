@@ -14,8 +14,8 @@
 
 #include "../run_command.h"
 #include "lab_arguments.h"
-#include "msm_sim/core/mesh_import.h"
-#include "msm_sim/core/model_file.h"
+#include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/model/model_file.h"
 
 namespace {
 

@@ -412,9 +412,9 @@ void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
   scene.setParam("objects", objects);
   if (yaml_key.rfind("world/", 0) == 0) scene.setParam(yaml_key, value);
   try {
-    msm_sim::node::LoadSimulationConfig(scene);
+    msm_sim::ros_interface::LoadSimulationConfig(scene);
     ADD_FAILURE() << yaml_key << " was accepted";
-  } catch (const msm_sim::node::ConfigError& e) {
+  } catch (const msm_sim::ros_interface::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find(mentions), std::string::npos) << e.what();
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
   }
@@ -431,8 +431,8 @@ TEST(BadConfig, NamesTheParameter) {
   bad_clamp[0]["name"] = std::string("c");
   ExpectConfigError("clamps", bad_clamp, "~objects[0]/clamps[0]");
   ros::NodeHandle("/empty_scene").deleteParam("");
-  EXPECT_THROW(msm_sim::node::LoadSimulationConfig(ros::NodeHandle("/empty_scene")),
-               msm_sim::node::ConfigError);
+  EXPECT_THROW(msm_sim::ros_interface::LoadSimulationConfig(ros::NodeHandle("/empty_scene")),
+               msm_sim::ros_interface::ConfigError);
 }
 
 // --- Robot in the loop (issue "Robot in the loop") -------------------------------------------

@@ -1,0 +1,58 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "msm_sim/material/material.h"
+#include "msm_sim/material/spring_law.h"
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// How a cubic lattice represents the body (SPEC.md §2.1, thesis 2.3.2 and 3.2.6).
+enum class CubicConstruction {
+  /// One node per cell, at the cell centre (0.5 a inside the surface), mass rho a^3, A+B springs
+  /// of stiffness kappa = 0.4 E a. Bends correctly at any resolution (preferred).
+  kNodeCentred,
+  /// Union of cubic elements; each element puts m/8 on its corners, 0.25 kappa on its edges and
+  /// 0.5 kappa on its face diagonals, so interior values add up to m and kappa.
+  kElementCorner,
+};
+
+/// A box [0, size] filled with a cubic lattice of spacing `spacing`, optionally rotated about the
+/// box centre by `rotation_angle` (rad) about `rotation_axis`.
+struct CubicLatticeOptions {
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< m, each > 0
+  double spacing = 0.1;                            ///< m, > 0 and <= the smallest size
+  CubicConstruction construction = CubicConstruction::kNodeCentred;
+  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();  ///< non-zero when angle != 0
+  double rotation_angle = 0.0;                               ///< rad
+  /// Node-centred only: restore the springs the surface layer misses (see BuildCubicLattice).
+  bool compensate_surface = true;
+  SpringLaw spring_law = SpringLaw::kLinear;
+  /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs
+  /// several kB per node).
+  int max_nodes = 2'000'000;
+};
+
+/// Builds a calibrated A+B cubic lattice MSM of the box for `material`, as an extended MSM
+/// (SPEC.md §3): springs kappa = mu a, which alone make a Cauchy solid with the target shear
+/// modulus, and dispersion fraction q = Q(nu) / 2 for the rest of the bulk modulus. At nu = 1/4,
+/// q = 0 and kappa = 0.4 E a: the plain MSM of SPEC.md §2.1.
+///
+/// Node-centred surface compensation: a node on the surface misses the springs to the cells
+/// outside the body. Each such spring would have half its length inside the body (the node sits
+/// half a cell inside the surface), so the body loses half a spring per missing neighbour; for a
+/// block n cells across that is about 2/(3n) of E. For every node i whose neighbour i + d is
+/// missing, we add kappa/2 to the collinear spring (i, i - d) on the opposite side of the same
+/// node. Under any uniform strain a spring's energy only depends on its direction and k L^2, so
+/// this restores exactly the bulk stiffness tensor per node (and thus E and nu of a homogeneously
+/// strained block), without adding nodes or springs. A node missing both i + d and i - d (a layer
+/// one cell thick) cannot be compensated along d. The eMSM dispersion sees the same picture: the
+/// spring (i, i - d) counts twice in node i's star (Model::dispersion_weight_a), so a surface node
+/// disperses like a bulk node under a homogeneous strain.
+///
+/// Throws std::invalid_argument on non-positive or non-finite sizes or spacing, a spacing larger
+/// than the smallest box edge, a zero rotation axis, or more than max_nodes nodes.
+Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& options);
+
+}  // namespace msm_sim::core

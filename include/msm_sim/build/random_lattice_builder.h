@@ -1,0 +1,56 @@
+#pragma once
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/material/material.h"
+#include "msm_sim/material/spring_law.h"
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// How spring stiffness varies with rest length in a random lattice (SPEC.md §2).
+enum class RandomStiffnessLaw {
+  kUniform,        ///< every spring has the same k
+  kInverseSquare,  ///< k_i = c / L_i^2: every spring contributes equally to the moduli
+};
+
+/// A box [0, size] filled by random sequential addition (thesis 2.3.3).
+struct RandomLatticeOptions {
+  Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< m, each > 0
+  /// Characteristic spacing l (m); the target node count is N = V / l^3.
+  double spacing = 0.1;
+  double min_distance = 0.8;  ///< minL as a multiple of l, in (0, max_distance)
+  double max_distance = 1.7;  ///< maxL as a multiple of l: pairs closer than this get a spring
+  std::uint64_t seed = 1;     ///< same seed, same model
+  RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
+  SpringLaw spring_law = SpringLaw::kLinear;
+  /// eMSM with nu > 1/4: weight each node's springs so that it disperses an isotropic pressure
+  /// (see SetIsotropicDispersionWeights in the source). Off gives the eMSM paper's equal shares.
+  bool isotropic_dispersion = true;
+  /// Random sequential addition gives up after this many draws per requested node.
+  int max_draws_per_node = 1000;
+  int max_nodes = 2'000'000;
+};
+
+/// Builds a calibrated random MSM of the box: N = round(V / l^3) points at least minL apart
+/// (spatial-hash rejection), a spring between every pair closer than maxL, node mass rho V / N,
+/// and stiffnesses scaled so that sum k_i L_i^2 = 15 V mu, a Cauchy solid with the target shear
+/// modulus, plus the eMSM dispersion q = Q(nu) / 2 (SPEC.md §2-3; at nu = 1/4 this is the plain
+/// calibration (1 / (6V)) sum k_i L_i^2 = E).
+///
+/// Throws std::invalid_argument for bad options (non-positive sizes, spacing larger than the box,
+/// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place
+/// the requested nodes (minL too large for the density).
+Model BuildRandomLattice(const Material& material, const RandomLatticeOptions& options);
+
+/// The same for the body bounded by `solid` (options.size is ignored): N = round(V / l^3) with V
+/// the mesh volume, nodes drawn inside the surface, and no spring whose segment crosses the
+/// surface (it would tie together parts across a concave notch). Throws as BuildRandomLattice,
+/// with the spacing checked against the smallest bounding-box edge.
+Model BuildRandomLatticeInSolid(const Material& material, const SolidMesh& solid,
+                                const RandomLatticeOptions& options);
+
+}  // namespace msm_sim::core

@@ -1,0 +1,28 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// The nodes that carry collision spheres (SPEC.md §7 "microcollisions") and their radii.
+struct BorderNodes {
+  std::vector<NodeIndex> nodes;
+  std::vector<double> radii;  ///< m, the mean half-length of the node's springs
+};
+
+/// A node is on the border when its star of springs is one-sided: the mean of the unit vectors
+/// to its neighbours exceeds `imbalance` in length (0 for an interior node of a cubic lattice,
+/// 0.29 on a face; below 0.24 for every interior node of a random lattice with <S> = 22), or
+/// when it has fewer than 4 springs. Interior nodes cannot reach a surface without a border node
+/// touching it first, so only border nodes are tested. Precondition: imbalance in (0, 1).
+BorderNodes FindBorderNodes(const Model& model, double imbalance = 0.25);
+
+/// Lowest z (m) reached by any border node's collision sphere with the nodes at `positions`
+/// (3 x N): where a ground plane just touches the body. +infinity without border nodes.
+double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& border);
+
+}  // namespace msm_sim::core

@@ -1,0 +1,218 @@
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "msm_sim/dynamics/border_nodes.h"
+#include "msm_sim/dynamics/collider.h"
+#include "msm_sim/dynamics/contact_wrench.h"
+#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/model/model.h"
+#include "msm_sim/model/state.h"
+
+namespace msm_sim::core {
+
+/// How a body moves, besides its Model (which fixes masses and springs).
+struct BodyOptions {
+  double damping_beta = 0.0;  ///< s: spring dampers c = beta k (SPEC.md §7)
+  double friction = 0.5;      ///< Coulomb coefficient of the body's surface
+  double restitution = 1.0;   ///< e in [0, 1] for contacts between MSM nodes
+  DispersionPasses dispersion = DispersionPasses::kTwoPass;
+  /// Border nodes collide with border nodes of the same body that were at least 2.5 longest
+  /// springs apart at rest (a fold), never with the ones near them. Off by default: objects a
+  /// robot handles rarely fold onto themselves, and a very soft ball squashed flat (E = 20 kPa,
+  /// 40 % strain) gained energy through its self-contacts (measured; see README).
+  bool self_collision = false;
+};
+
+struct WorldOptions {
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  ///< m/s^2
+  /// Fraction of each body's stability limit used as the substep (see StableTimeStep).
+  double time_step_safety = 0.8;
+  /// A step that would move any node faster than this (m/s) is rejected: no soft object a robot
+  /// handles gets there, but a diverging simulation or an absurd force does.
+  double max_speed = 100.0;
+  /// Gauss-Seidel sweeps over a node's contacts with colliders, so that touching several
+  /// surfaces at once (a wedge, a gripper) ends with no approach towards any of them.
+  int contact_iterations = 8;
+};
+
+/// Energies of one body (J). Gravitational energy is -m g . x (zero at the world origin). The
+/// kinetic energy counts the restitution still pending from the last contacts (a node that has
+/// just hit a surface is stopped until the next substep and carries its rebound there).
+struct Energies {
+  double kinetic = 0.0;
+  double elastic = 0.0;  ///< springs plus eMSM dispersion (ForceEvaluator::ElasticEnergy)
+  double gravitational = 0.0;
+  double total() const { return kinetic + elastic + gravitational; }
+};
+
+/// What a Step did.
+struct StepReport {
+  bool accepted = true;
+  std::string reason;  ///< why a step was rejected; empty when accepted
+  int substeps = 0;
+  double substep = 0.0;  ///< s
+  int microcollisions = 0;
+};
+
+/// Nodes whose positions a rigid frame dictates: a clamp (fixed frame) or a kinematic grip. The
+/// nodes keep their offsets in the frame they had when the group was added.
+struct KinematicGroup {
+  std::string name;
+  std::vector<NodeIndex> nodes;
+  /// Frame pose at time t (s). Empty: fixed at the pose the group was added with.
+  std::function<Eigen::Isometry3d(double)> pose;
+};
+
+/// The simulation: any number of MSM bodies, each an immutable Model (the analogue of MuJoCo's
+/// mjModel) with its mutable State (mjData), and the rigid colliders they touch, advanced by
+/// SPEC.md §7's position Verlet with the split microcollision response:
+///
+///   1. x += dt/2 v            4. v += dt F / m
+///   2. pending restitution    5. detect contacts, compute their velocity changes
+///   3. F = springs, dampers,  6. v += the part that stops every approach
+///      gravity, pushes        7. x += dt/2 v; the rest (restitution) is pending for step 2
+///
+/// After step 6 no node approaches any surface it touches, so steps 7 and 1 never deepen an
+/// overlap. Each contact's normal velocity change is (1 + e) times the approach speed; friction
+/// adds up to mu times that, against the tangential velocity and never reversing it.
+///
+/// Step() subdivides the caller's step into stable substeps, and either advances everything or,
+/// if any substep produces a non-finite value or a node faster than max_speed, restores the
+/// last good state, drops the forces applied with ApplyForce (an absurd push is the usual cause,
+/// and would fail every later step) and reports why.
+class World {
+ public:
+  explicit World(const WorldOptions& options = {});
+
+  /// Adds a body at rest at the model's rest positions; returns its index. Throws
+  /// std::invalid_argument for out-of-range options.
+  int AddBody(const std::string& name, std::shared_ptr<const Model> model,
+              const BodyOptions& options = {});
+  /// Adds a collider; returns its index. Its pose and twist may be changed between steps.
+  int AddCollider(const Collider& collider);
+  /// Fixes or drives nodes of a body (see KinematicGroup); returns the group's index. Its
+  /// reaction appears among the wrenches with the group's name. Throws std::invalid_argument
+  /// for an unknown body or node index.
+  int AddKinematicGroup(int body, const KinematicGroup& group);
+  /// Pushes a body with `force` (N, world) at `point` (m, world): the force is shared by the
+  /// nodes within `radius` of the point (the nearest node if none), in proportion to their
+  /// masses, for `duration` seconds (0: the next Step only). Throws std::invalid_argument for
+  /// non-finite values, a negative radius or duration, or an unknown body.
+  void ApplyForce(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                  double radius, double duration);
+  /// A wrench at `point`: the force as in ApplyForce, the torque (N m, world) as forces
+  /// tau x r_i / sum |r_j|^2 on the same nodes (r from the point), which sum to zero and whose
+  /// moment about the point is tau when the nodes surround it evenly. Throws as ApplyForce.
+  void ApplyWrench(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                   const Eigen::Vector3d& torque, double radius, double duration);
+  /// Swaps a body's model for one with the same nodes (a recalibrated material), keeping its
+  /// state, groups and pushes. Throws std::invalid_argument if the node counts differ.
+  void ReplaceModel(int body, std::shared_ptr<const Model> model, const BodyOptions& options);
+  /// Coulomb coefficient for a body against a collider, overriding the default
+  /// sqrt(mu_body mu_collider).
+  void SetPairFriction(int body, int collider, double friction);
+
+  /// Advances by dt (s, > 0) in equal substeps no longer than the stable step.
+  StepReport Step(double dt);
+  /// Puts every body back at rest at its rest positions (kinematic groups at their poses at
+  /// time 0), drops pending pushes and contacts, and sets the time to 0.
+  void Reset();
+
+  double time() const { return time_; }
+  int num_bodies() const { return static_cast<int>(bodies_.size()); }
+  int num_colliders() const { return static_cast<int>(colliders_.size()); }
+  const std::string& body_name(int body) const { return bodies_.at(body).name; }
+  const Model& model(int body) const { return *bodies_.at(body).model; }
+  const State& state(int body) const { return bodies_.at(body).state; }
+  /// Replaces a body's state (e.g. an initial velocity). Throws std::invalid_argument for a
+  /// wrong size or non-finite values.
+  void SetState(int body, const State& state);
+  Collider& collider(int index) { return colliders_.at(index); }
+  const Collider& collider(int index) const { return colliders_.at(index); }
+  const BorderNodes& border(int body) const { return bodies_.at(body).border; }
+  /// The stable substep of the stiffest body (s).
+  double stable_time_step() const;
+  Energies ComputeEnergies(int body) const;
+
+  /// Wrenches body `body` exerted during the last Step: one per collider (index = collider
+  /// index), then one per kinematic group of that body (in the order added).
+  const std::vector<ContactWrench>& wrenches(int body) const { return bodies_.at(body).wrenches; }
+
+ private:
+  struct Push {
+    std::vector<NodeIndex> nodes;
+    std::vector<Eigen::Vector3d> forces;  // per node
+    double remaining;                     // s; <= 0 after its one step
+  };
+  struct Group {
+    KinematicGroup spec;
+    Eigen::Matrix3Xd local;          // node offsets in the group frame
+    Eigen::Isometry3d initial_pose;  // for a fixed group
+  };
+  // The restitution part of a contact response, due at step 2 of the next substep.
+  struct PendingResponse {
+    NodeIndex node;
+    Eigen::Vector3d delta_v;
+  };
+  // Impulses a body gave one collider or group during a Step, turned into a wrench at its end.
+  struct ImpulseSum {
+    Eigen::Vector3d impulse = Eigen::Vector3d::Zero();  // on the collider, N s
+    Eigen::Vector3d moment = Eigen::Vector3d::Zero();   // about its frame origin, N m s
+    Eigen::Vector3d weighted_point = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    int count = 0;
+    void Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
+             const Eigen::Vector3d& on_collider);
+  };
+  struct Body {
+    /// At rest, with everything derived from the model: border, stable step (for the World's
+    /// safety factor), the self-contact distance.
+    Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
+         const BodyOptions& body_options, double time_step_safety);
+    std::string name;
+    std::shared_ptr<const Model> model;
+    BodyOptions options;
+    State state;
+    ForceEvaluator evaluator;
+    BorderNodes border;
+    std::vector<Group> groups;
+    std::vector<char> constrained;  // per node
+    std::vector<Push> pushes;
+    std::vector<PendingResponse> pending;
+    std::vector<double> pair_friction;  // per collider; < 0: default
+    double stable_step = 0.0;
+    double self_contact_rest_distance_sq = 0.0;  // m^2
+    Eigen::VectorXd inverse_masses;
+    double fastest_speed_sq = 0.0;  // during the current Step; infinite if anything is not finite
+    int fastest_node = 0;
+    Eigen::Matrix3Xd saved_positions, saved_velocities;  // to restore a rejected Step
+    std::vector<PendingResponse> saved_pending;
+    Eigen::Matrix3Xd forces;
+    std::vector<ImpulseSum> impulses;     // colliders, then groups (during a Step)
+    std::vector<ContactWrench> wrenches;  // colliders, then groups (of the last Step)
+  };
+
+  void Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time);
+  void CollideWithColliders(Body* body, int* microcollisions);
+  void CollideNodes(int* microcollisions);
+  Eigen::Isometry3d GroupPose(const Group& group, double t) const;
+  /// Puts a body's kinematic nodes where their frames are at time t.
+  void PlaceGroups(Body* body, double t) const;
+  double Friction(const Body& body, int collider) const;
+  std::string CheckSane() const;
+  int microcollisions_ = 0;
+
+  WorldOptions options_;
+  std::vector<Body> bodies_;
+  std::vector<Collider> colliders_;
+  double time_ = 0.0;
+};
+
+}  // namespace msm_sim::core

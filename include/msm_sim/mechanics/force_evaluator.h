@@ -1,0 +1,126 @@
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// How a force evaluation computes the eMSM momentum dispersion (SPEC.md §3).
+enum class DispersionPasses {
+  /// Exact: a second loop over the springs redistributes this evaluation's accumulators.
+  kTwoPass,
+  /// One loop: redistributes the accumulators of the previous evaluation (the first evaluation
+  /// is two-pass). About half the cost of the second pass, one evaluation of lag.
+  kOnePass,
+};
+
+/// Internal forces of a Model: spring tensions under the model's spring law plus, for an eMSM,
+/// the dispersed tensions t*_n = (J_a / b_a + J_b / b_b) / L0_n with J_x = q sum L0_i t_i over the
+/// springs at node x (SPEC.md §3). With the model's dispersion weights v (Model::
+/// dispersion_weight_a) a node accumulates J = q sum v L0 t and spring n receives w_n J / W with
+/// w = v k L0^2 and W = sum w, which makes the dispersion conservative; equal v and equal k L0^2
+/// is the paper's algorithm. Baudet correction elements (Model::correction_edges) add their
+/// coupled edge tensions after the springs.
+///
+/// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
+/// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
+/// model.num_nodes() columns and no spring has zero length.
+class ForceEvaluator {
+ public:
+  explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass);
+
+  /// Adds the internal forces at `positions` to *forces (3 x N, N).
+  void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  /// The same plus spring dampers (SPEC.md §7): every spring also carries the tension
+  /// c (v_b - v_a) . u with c = damping_beta k (s), u the unit vector a -> b; it is part of
+  /// total_tensions. Precondition: velocities is 3 x N, damping_beta >= 0.
+  void AccumulateForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
+                        double damping_beta, Eigen::Matrix3Xd* forces);
+
+  /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
+  /// Phi = sum_x J_x^2 / (2 q W_x). Phi is exact for linear springs; with the carrier law the
+  /// dispersion follows the small-strain stiffness, so Phi is its potential to second order in
+  /// the strain. Kept out of AccumulateForces because the carrier law's logarithm would double
+  /// the cost of a step.
+  double ElasticEnergy(const Eigen::Matrix3Xd& positions) const;
+
+  /// Total tension of every spring at the last AccumulateForces (N, > 0 stretched): direct plus
+  /// dispersed plus Baudet correction, what measurements such as momentum flow and Hardy stress
+  /// must sum.
+  const Eigen::VectorXd& total_tensions() const { return total_tensions_; }
+
+  /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness.
+  void Linearize(const Eigen::Matrix3Xd& positions);
+  /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric only
+  /// without dispersion. Precondition: Linearize was called; v and out are 3 x N.
+  void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// The diagonal of K (3 x N) at the last Linearize, exact.
+  Eigen::Matrix3Xd StiffnessDiagonal() const;
+  /// K is symmetric without dispersion, and with it for linear springs (the dispersion then has
+  /// a potential); with carrier springs the inflow follows the tangent k' and the outflow k.
+  bool stiffness_is_symmetric() const {
+    return model_->dispersion_fraction() == 0.0 || model_->spring_law() == SpringLaw::kLinear;
+  }
+
+  const Model& model() const { return *model_; }
+
+  /// Dashpot parameters handed to the force loops (internal).
+  struct Damping {
+    const double* velocities = nullptr;  // 3 x N, column-major
+    double beta = 0.0;                   // s
+  };
+
+ private:
+  // Models with at least this many springs evaluate them on up to kMaxThreads threads (OpenMP):
+  // the passes are memory-bound gathers and scatters, which two cores share well; small models
+  // would lose more to the threads' start than they gain.
+  static constexpr int kParallelSprings = 50'000;
+  static constexpr int kMaxThreads = 2;
+  /// Runs body(begin, end, scatter_target) over the springs, in fixed per-thread shares for
+  /// large models, each thread scattering into its own copy of `target` (summed afterwards).
+  template <typename Body>
+  void ForSprings(double* target, Eigen::Index target_size, Body&& body);
+
+  template <bool Damped>
+  void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                  Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law, bool Damped>
+  void PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                 Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law>
+  void InflowPass(const Eigen::Matrix3Xd& positions);
+  template <bool Damped>
+  void OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                   Eigen::Matrix3Xd* forces);
+  template <SpringLaw Law, bool Damped>
+  void LaggedPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                  Eigen::Matrix3Xd* forces);
+  void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
+  void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  template <SpringLaw Law>
+  double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
+  template <SpringLaw Law>
+  void LinearizeImpl(const Eigen::Matrix3Xd& positions);
+
+  const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
+  DispersionPasses passes_;
+  // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 = v k L0 at each end,
+  // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
+  Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
+  Eigen::VectorXd inverse_star_weight_;    // 1 / W per node
+  Eigen::VectorXd tensions_;               // direct tensions (two-pass)
+  Eigen::VectorXd inverse_lengths_;        // 1 / L (two-pass)
+  Eigen::VectorXd total_tensions_;         // direct + dispersed
+  Eigen::VectorXd accumulator_;            // J per node
+  Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
+  bool has_previous_dispersion_ = false;
+  Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
+  Eigen::VectorXd lengths_;
+  Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
+  std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
+};
+
+}  // namespace msm_sim::core

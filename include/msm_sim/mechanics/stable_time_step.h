@@ -1,0 +1,29 @@
+#pragma once
+
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+struct StableTimeStepOptions {
+  double damping_beta = 0.0;  ///< s, the spring dampers' c = beta k
+  /// Fraction of the stability limit to use (< 1 leaves room for contacts and prescribed
+  /// motion, which the limit does not see).
+  double safety = 0.8;
+  /// Carrier springs stiffen under compression (tangent k (L0 / L)^2); the step stays stable
+  /// for springs compressed down to this fraction of their rest length.
+  double min_compression = 0.7;
+};
+
+/// Largest stable step (s) of the explicit integration of `model` (SPEC.md §7).
+///
+/// Position Verlet is stable while dt <= 2 / omega_max; with dampers of ratio
+/// zeta = beta omega_max / 2 the limit shrinks to (2 / omega_max)(sqrt(1 + zeta^2) - zeta).
+/// omega_max^2 is the largest eigenvalue of M^-1/2 K M^-1/2 at rest, found by power iteration
+/// on the exact stiffness, so it counts the eMSM dispersion, Baudet's correction and any mass
+/// distribution; SPEC's estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which at
+/// nu = 0.49 stiffens the bulk mode 7-fold. A model without springs gives +infinity. Throws
+/// std::invalid_argument for options out of range (safety in (0, 1], min_compression in (0, 1],
+/// damping >= 0).
+double StableTimeStep(const Model& model, const StableTimeStepOptions& options = {});
+
+}  // namespace msm_sim::core

@@ -1,0 +1,58 @@
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// Binary model files (".msm"): a built Model saved once and reloaded at every start, so that a
+/// large lattice is not rebuilt (random sequential addition, stiffness calibration) each time.
+///
+/// Format version 1, every integer and IEEE-754 double little-endian, no padding:
+///
+///   offset  size  field
+///   0       16    magic kModelFileMagic
+///   16      4     uint32 format version (kModelFileVersion)
+///   20      4     uint32 node count N (1 .. 2^31 - 1)
+///   24      4     uint32 spring count S (0 .. 2^31 - 1)
+///   28      4     uint32 correction element count C (0 .. 2^31 - 1)
+///   32      4     uint32 spring law: 0 = linear, 1 = nonlinear (carrier)
+///   36      48    double E (Pa), nu, density (kg/m^3), dispersion fraction q, volume (m^3),
+///                 characteristic length (m)
+///   84      32 N  per node: double x, y, z (m), mass (kg)
+///           40 S  per spring: uint32 node a, uint32 node b, double stiffness (N/m),
+///                 rest length (m), dispersion weight at a, dispersion weight at b
+///           56 C  per correction element: 12 x uint32 spring index, double coefficient (N/m)
+///   end-8   8     uint64 FNV-1a 64 of every byte before it
+///
+/// Rest lengths are derived from the node positions when the file is loaded; the stored ones only
+/// guard against a platform computing them differently.
+inline constexpr char kModelFileMagic[] = "\x89MSMSIMMODEL\r\n\x1a\n";
+inline constexpr int kModelFileMagicSize = 16;
+inline constexpr std::uint32_t kModelFileVersion = 1;
+
+/// Writes `model` to `path` in the format above. The file is written next to `path` under a
+/// temporary name and renamed over `path` only when complete and flushed to disk, so a crash or a
+/// full disk never leaves a half-written model behind (an existing file at `path` survives a
+/// failed save). POSIX only (open/fsync/rename).
+///
+/// Precondition: none beyond a valid Model (every Model satisfies its invariants).
+/// Throws std::runtime_error, one line naming `path`, if the file cannot be created, written,
+/// flushed or renamed; the temporary file is removed in that case.
+void SaveModel(const Model& model, const std::string& path);
+
+/// Reads a model written by SaveModel. The model is rebuilt through ModelBuilder, so every
+/// invariant of Model holds for the result whatever the file contains.
+///
+/// Precondition: none; any file may be passed. A foreign, truncated, corrupt or malicious file
+/// never crashes, hangs or allocates more memory than its own size warrants: counts are checked
+/// against the file size before anything is allocated and the checksum before any value is used.
+/// Throws std::runtime_error with one line naming `path` and the problem: cannot open, not a
+/// regular file, bad magic, unsupported format version, truncated or over-long, checksum
+/// mismatch, or an invalid value (index out of range, self-loop, non-finite or non-positive
+/// value, inadmissible material, rest length that does not match the node positions).
+Model LoadModel(const std::string& path);
+
+}  // namespace msm_sim::core

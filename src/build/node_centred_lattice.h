@@ -1,0 +1,35 @@
+#pragma once
+// Private to msm_sim's lattice builders: the node-centred A+B cubic MSM of a set of occupied
+// lattice cells, shared by the box builder (every cell full) and the mesh builder (cells partly
+// inside the surface, SPEC.md §5 anti-aliasing).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "build/lattice_geometry.h"
+#include "msm_sim/material/material.h"
+#include "msm_sim/material/spring_law.h"
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core::lattice {
+
+/// Cells of a cubic lattice that become nodes, with the fraction of each cell's volume inside
+/// the body (1 for a full cell).
+struct OccupiedCells {
+  LatticeFrame frame;      ///< maps integer cell coordinates to cell centres
+  Eigen::Vector3i lo, hi;  ///< integer range covering every coordinate below
+  std::vector<Eigen::Vector3i> coords;
+  std::vector<double> fractions;  ///< chi in (0, 1], same order as coords
+};
+
+/// Builds the calibrated node-centred model: a node at each cell centre with mass rho a^3 chi,
+/// A+B springs k = (kappa / 2)(chi_i + chi_j) with kappa = mu a (each end cell contributes the
+/// half of the spring that lies in it, weighted by how much of that cell is body), eMSM
+/// dispersion fraction q(nu), and, if compensate_surface, the missing half-springs of surface
+/// cells mirrored onto the opposite spring of the same node (see BuildCubicLattice). The model
+/// volume is a^3 sum chi. Precondition: coords non-empty and unique, fractions in (0, 1].
+Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
+                            bool compensate_surface, SpringLaw spring_law);
+
+}  // namespace msm_sim::core::lattice

@@ -1,0 +1,40 @@
+#include "msm_sim/dynamics/border_nodes.h"
+
+#include <algorithm>
+#include <limits>
+
+#include <Eigen/Core>
+
+namespace msm_sim::core {
+
+BorderNodes FindBorderNodes(const Model& model, double imbalance) {
+  BorderNodes border;
+  const Eigen::Matrix3Xd& x = model.rest_positions();
+  for (NodeIndex i = 0; i < model.num_nodes(); ++i) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double half_lengths = 0.0;
+    const int count = model.num_incident_springs(i);
+    for (int k = model.incidence_offsets()[i]; k < model.incidence_offsets()[i + 1]; ++k) {
+      const SpringIndex s = model.incident_springs()[k];
+      const NodeIndex j =
+          model.spring_node_a()[s] == i ? model.spring_node_b()[s] : model.spring_node_a()[s];
+      sum += (x.col(j) - x.col(i)) / model.spring_rest_length()[s];
+      half_lengths += 0.5 * model.spring_rest_length()[s];
+    }
+    if (count >= 4 && sum.norm() <= imbalance * count) continue;
+    border.nodes.push_back(i);
+    // A node without springs still needs a size: half the model's node spacing.
+    border.radii.push_back(count > 0 ? half_lengths / count : 0.5 * model.characteristic_length());
+  }
+  return border;
+}
+
+double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& border) {
+  double lowest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    lowest = std::min(lowest, positions(2, border.nodes[k]) - border.radii[k]);
+  }
+  return lowest;
+}
+
+}  // namespace msm_sim::core

@@ -1,0 +1,120 @@
+#include "msm_sim/geometry/mesh_import.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <vector>
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <sys/stat.h>
+#include <assimp/Importer.hpp>
+
+namespace msm_sim::core {
+namespace {
+
+std::string Describe(double value) {
+  std::ostringstream out;
+  out.precision(3);
+  out << value;
+  return out.str();
+}
+
+[[noreturn]] void Fail(const std::string& path, const std::string& problem) {
+  throw MeshImportError("mesh '" + path + "': " + problem);
+}
+
+}  // namespace
+
+ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions& options) {
+  if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
+    Fail(path, "scale must be finite and > 0, got " + Describe(options.scale));
+  }
+  struct stat info {};
+  if (stat(path.c_str(), &info) != 0) Fail(path, "no such file");
+  if (!S_ISREG(info.st_mode)) Fail(path, "not a regular file");
+  if (info.st_size == 0) Fail(path, "the file is empty");
+
+  Assimp::Importer importer;
+  // Points and lines carry no surface; have assimp drop them instead of mixing them in.
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                         aiProcess_SortByPType | aiProcess_ValidateDataStructure;
+  const aiScene* scene = importer.ReadFile(path, flags);
+  if (scene == nullptr) {
+    std::string reason = importer.GetErrorString();
+    if (reason.empty()) reason = "unknown reason";
+    // Assimp's messages can span lines; keep the error to one.
+    for (char& c : reason) {
+      if (c == '\n' || c == '\r') c = ' ';
+    }
+    Fail(path, "cannot be read as a mesh: " + reason);
+  }
+
+  ImportedMesh result;
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<Eigen::Vector3i> triangles;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[m];
+    if (mesh == nullptr || !(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
+    const int base = static_cast<int>(vertices.size());
+    bool used = false;
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D& p = mesh->mVertices[v];
+      vertices.emplace_back(options.scale * Eigen::Vector3d(p.x, p.y, p.z));
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) continue;
+      Eigen::Vector3i tri;
+      bool valid = true;
+      for (int e = 0; e < 3; ++e) {
+        valid = valid && face.mIndices[e] < mesh->mNumVertices;
+        tri[e] = base + static_cast<int>(face.mIndices[e]);
+      }
+      if (!valid) Fail(path, "a face refers to a vertex that does not exist");
+      triangles.push_back(tri);
+      used = true;
+    }
+    if (used) ++result.source_meshes;
+  }
+  if (triangles.empty())
+    Fail(path, "the file contains no triangles (only points, lines or nothing)");
+
+  TriangleMesh raw;
+  raw.vertices.resize(3, static_cast<Eigen::Index>(vertices.size()));
+  for (std::size_t v = 0; v < vertices.size(); ++v) raw.vertices.col(v) = vertices[v];
+  raw.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
+  for (std::size_t t = 0; t < triangles.size(); ++t) raw.triangles.col(t) = triangles[t];
+  if (!raw.vertices.allFinite()) Fail(path, "some vertex coordinates are not finite numbers");
+
+  Eigen::Vector3d min, max;
+  BoundingBox(raw, &min, &max);
+  const double extent = (max - min).maxCoeff();
+  if (extent > options.max_extent || extent < options.min_extent) {
+    Fail(path, "the mesh is " + Describe(extent) + " m across (after scale " +
+                   Describe(options.scale) + "), outside [" + Describe(options.min_extent) + ", " +
+                   Describe(options.max_extent) +
+                   "] m; give the right scale (0.001 for a file in millimetres)");
+  }
+  const double diagonal = (max - min).norm();
+  TriangleMesh welded = WeldVertices(raw, options.weld_tolerance * diagonal);
+  result.mesh =
+      RemoveDegenerateTriangles(welded, 1e-14 * diagonal * diagonal, &result.removed_degenerate);
+  if (result.mesh.num_triangles() == 0) Fail(path, "every triangle is degenerate (zero area)");
+  result.topology = AnalyzeTopology(result.mesh);
+  return result;
+}
+
+SolidMesh ImportSolidMesh(const std::string& path, const MeshImportOptions& options) {
+  ImportedMesh imported = ImportTriangleMesh(path, options);
+  try {
+    return SolidMesh(imported.mesh);
+  } catch (const std::invalid_argument& e) {
+    Fail(path, e.what());
+  }
+}
+
+}  // namespace msm_sim::core

@@ -1,0 +1,462 @@
+#include "msm_sim/mechanics/force_evaluator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <omp.h>
+
+namespace msm_sim::core {
+
+ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
+    : model_(&model), passes_(passes) {
+  const int n = model.num_nodes();
+  const int num_springs = model.num_springs();
+  const double q = model.dispersion_fraction();
+  // Star weight W of every node: the sum of its springs' outflow weights w = v k L0^2 (the
+  // spring count b, up to a common factor, for the paper's equal shares).
+  Eigen::VectorXd star_weight = Eigen::VectorXd::Zero(n);
+  inflow_a_.resize(num_springs);
+  inflow_b_.resize(num_springs);
+  outflow_a_.resize(num_springs);
+  outflow_b_.resize(num_springs);
+  for (int s = 0; s < num_springs; ++s) {
+    const double rest = model.spring_rest_length()[s];
+    const double k_l2 = model.spring_stiffness()[s] * rest * rest;
+    const double va = model.dispersion_weight_a()[s];
+    const double vb = model.dispersion_weight_b()[s];
+    // w = v k L0^2 makes the dispersion conservative (see Model::dispersion_weight_a).
+    star_weight[model.spring_node_a()[s]] += va * k_l2;
+    star_weight[model.spring_node_b()[s]] += vb * k_l2;
+    inflow_a_[s] = q * rest * va;
+    inflow_b_[s] = q * rest * vb;
+    outflow_a_[s] = va * k_l2 / rest;
+    outflow_b_[s] = vb * k_l2 / rest;
+  }
+  inverse_star_weight_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    inverse_star_weight_[i] = star_weight[i] > 0.0 ? 1.0 / star_weight[i] : 0.0;
+  }
+  tensions_.setZero(num_springs);
+  inverse_lengths_.setZero(num_springs);
+  total_tensions_.setZero(num_springs);
+  accumulator_.setZero(n);
+  dispersion_per_weight_.setZero(n);
+  directions_.setZero(3, num_springs);
+  lengths_.setZero(num_springs);
+  tangent_stiffness_.setZero(num_springs);
+}
+
+// The hot loops below work on raw, non-aliasing pointers: through Eigen column blocks of a
+// matrix passed by pointer the compiler must assume every force store may change the positions
+// or the model arrays, and reloads them (callgrind counted 55 instructions per spring in the
+// second eMSM pass written that way; the eMSM evaluation got 7 % faster without).
+namespace {
+
+struct SpringArrays {
+  const NodeIndex* __restrict a;
+  const NodeIndex* __restrict b;
+  const double* __restrict rest;
+  const double* __restrict k;
+};
+
+SpringArrays Arrays(const Model& model) {
+  return {model.spring_node_a().data(), model.spring_node_b().data(),
+          model.spring_rest_length().data(), model.spring_stiffness().data()};
+}
+
+// Adds f * (x_b - x_a) to node a and subtracts it from node b.
+inline void ApplyPair(double* __restrict forces, int a, int b, double f, const double r[3]) {
+  for (int i = 0; i < 3; ++i) {
+    forces[3 * a + i] += f * r[i];
+    forces[3 * b + i] -= f * r[i];
+  }
+}
+
+inline double Separation(const double* __restrict x, int a, int b, double r[3]) {
+  for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
+  return std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+}
+
+// The dashpot's tension beta k (v_b - v_a) . r / L (positive when the spring lengthens).
+inline double DampingTension(const ForceEvaluator::Damping& damping, const SpringArrays& springs,
+                             int s, const double r[3], double length) {
+  const double* __restrict v = damping.velocities;
+  const int a = springs.a[s], b = springs.b[s];
+  double rate = 0.0;
+  for (int i = 0; i < 3; ++i) rate += (v[3 * b + i] - v[3 * a + i]) * r[i];
+  return damping.beta * springs.k[s] * rate / length;
+}
+
+}  // namespace
+
+template <typename Body>
+void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&& body) {
+  const int count = model_->num_springs();
+  const int threads = count >= kParallelSprings ? std::min(omp_get_max_threads(), kMaxThreads) : 1;
+  if (threads <= 1) {
+    body(0, count, target);
+    return;
+  }
+  // Each thread takes a fixed, contiguous share of the springs (they are numbered node by node,
+  // so the shares touch mostly different nodes) and scatters into its own buffer; the buffers
+  // are added in thread order, so a given thread count always gives the same sums.
+  scratch_.resize(threads - 1);
+  for (Eigen::VectorXd& buffer : scratch_) buffer.setZero(target_size);
+#pragma omp parallel num_threads(threads)
+  {
+    const int t = omp_get_thread_num();
+    const int begin = static_cast<int>(static_cast<long long>(count) * t / threads);
+    const int end = static_cast<int>(static_cast<long long>(count) * (t + 1) / threads);
+    body(begin, end, t == 0 ? target : scratch_[t - 1].data());
+  }
+  Eigen::Map<Eigen::VectorXd> sum(target, target_size);
+  for (const Eigen::VectorXd& buffer : scratch_) sum += buffer;
+}
+
+template <SpringLaw Law, bool Damped>
+void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                               Eigen::Matrix3Xd* forces) {
+  const SpringArrays springs = Arrays(*model_);
+  const double* __restrict x = positions.data();
+  double* __restrict total = total_tensions_.data();
+  ForSprings(forces->data(), forces->size(), [&](int begin, int end, double* __restrict f) {
+    for (int s = begin; s < end; ++s) {
+      double r[3];
+      const double length = Separation(x, springs.a[s], springs.b[s], r);
+      double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+      if constexpr (Damped) t += DampingTension(damping, springs, s, r, length);
+      total[s] = t;
+      ApplyPair(f, springs.a[s], springs.b[s], t / length, r);
+    }
+  });
+}
+
+template <SpringLaw Law>
+void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
+  const SpringArrays springs = Arrays(*model_);
+  const double* __restrict x = positions.data();
+  const double* __restrict inflow_a = inflow_a_.data();
+  const double* __restrict inflow_b = inflow_b_.data();
+  double* __restrict tensions = tensions_.data();
+  double* __restrict inverse_lengths = inverse_lengths_.data();
+  accumulator_.setZero();
+  ForSprings(accumulator_.data(), accumulator_.size(),
+             [&](int begin, int end, double* __restrict accumulator) {
+               for (int s = begin; s < end; ++s) {
+                 double r[3];
+                 const double length = Separation(x, springs.a[s], springs.b[s], r);
+                 const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+                 tensions[s] = t;
+                 inverse_lengths[s] = 1.0 / length;
+                 accumulator[springs.a[s]] += inflow_a[s] * t;
+                 accumulator[springs.b[s]] += inflow_b[s] * t;
+               }
+             });
+}
+
+template <bool Damped>
+void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                 Eigen::Matrix3Xd* forces) {
+  const SpringArrays springs = Arrays(*model_);
+  const double* __restrict x = positions.data();
+  const double* __restrict g = dispersion_per_weight_.data();
+  const double* __restrict outflow_a = outflow_a_.data();
+  const double* __restrict outflow_b = outflow_b_.data();
+  const double* __restrict tensions = tensions_.data();
+  const double* __restrict inverse_lengths = inverse_lengths_.data();
+  double* __restrict total = total_tensions_.data();
+  ForSprings(forces->data(), forces->size(), [&](int begin, int end, double* __restrict f) {
+    for (int s = begin; s < end; ++s) {
+      const int a = springs.a[s];
+      const int b = springs.b[s];
+      double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
+      // Recomputing r from positions still in cache is cheaper than streaming stored directions.
+      double r[3];
+      for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
+      if constexpr (Damped) t += DampingTension(damping, springs, s, r, 1.0 / inverse_lengths[s]);
+      total[s] = t;
+      ApplyPair(f, a, b, t * inverse_lengths[s], r);
+    }
+  });
+}
+
+template <SpringLaw Law, bool Damped>
+void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                Eigen::Matrix3Xd* forces) {
+  const SpringArrays springs = Arrays(*model_);
+  const double* __restrict x = positions.data();
+  const double* __restrict g = dispersion_per_weight_.data();  // of the previous evaluation
+  const double* __restrict inflow_a = inflow_a_.data();
+  const double* __restrict inflow_b = inflow_b_.data();
+  const double* __restrict outflow_a = outflow_a_.data();
+  const double* __restrict outflow_b = outflow_b_.data();
+  double* __restrict accumulator = accumulator_.data();
+  double* __restrict total = total_tensions_.data();
+  double* __restrict f = forces->data();
+  accumulator_.setZero();
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const int a = springs.a[s];
+    const int b = springs.b[s];
+    double r[3];
+    const double length = Separation(x, a, b, r);
+    const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+    accumulator[a] += inflow_a[s] * t;
+    accumulator[b] += inflow_b[s] * t;
+    double t_total = t + outflow_a[s] * g[a] + outflow_b[s] * g[b];
+    if constexpr (Damped) t_total += DampingTension(damping, springs, s, r, length);
+    total[s] = t_total;
+    ApplyPair(f, a, b, t_total / length, r);
+  }
+}
+
+void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& edges = model_->correction_edges();
+  const auto& coefficient = model_->correction_coefficients();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double r[12][3];
+    double length[12];
+    double elongation[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      length[i] = Separation(positions.data(), a[s], b[s], r[i]);
+      elongation[i / 4] += length[i] - rest[s];
+    }
+    const double sum = elongation[0] + elongation[1] + elongation[2];
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      const double tension = coefficient[e] * (sum - elongation[i / 4]);
+      total_tensions_[s] += tension;
+      ApplyPair(forces->data(), a[s], b[s], tension / length[i], r[i]);
+    }
+  }
+}
+
+void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
+  Accumulate<false>(positions, Damping{}, forces);
+}
+
+void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions,
+                                      const Eigen::Matrix3Xd& velocities, double damping_beta,
+                                      Eigen::Matrix3Xd* forces) {
+  if (damping_beta == 0.0) {
+    Accumulate<false>(positions, Damping{}, forces);
+  } else {
+    Accumulate<true>(positions, Damping{velocities.data(), damping_beta}, forces);
+  }
+}
+
+template <bool Damped>
+void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                Eigen::Matrix3Xd* forces) {
+  const bool linear = model_->spring_law() == SpringLaw::kLinear;
+  if (model_->dispersion_fraction() == 0.0) {
+    linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
+           : PlainPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
+    if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
+    return;
+  }
+  if (passes_ == DispersionPasses::kOnePass && has_previous_dispersion_) {
+    linear ? LaggedPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
+           : LaggedPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
+    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);  // for next time
+  } else {
+    // Two passes: the direct tensions fill the accumulators, then every spring applies its
+    // direct plus dispersed tension at once.
+    linear ? InflowPass<SpringLaw::kLinear>(positions)
+           : InflowPass<SpringLaw::kNonlinear>(positions);
+    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
+    OutflowPass<Damped>(positions, damping, forces);
+  }
+  has_previous_dispersion_ = true;
+  if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
+}
+
+template <SpringLaw Law>
+double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& k = model_->spring_stiffness();
+  const double q = model_->dispersion_fraction();
+  Eigen::VectorXd accumulator = Eigen::VectorXd::Zero(q != 0.0 ? model_->num_nodes() : 0);
+  double energy = 0.0;
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const double length = (positions.col(b[s]) - positions.col(a[s])).norm();
+    energy += SpringEnergy<Law>(k[s], rest[s], length);
+    if (q != 0.0) {
+      const double t = SpringTension<Law>(k[s], rest[s], length);
+      accumulator[a[s]] += inflow_a_[s] * t;
+      accumulator[b[s]] += inflow_b_[s] * t;
+    }
+  }
+  // Phi = sum J^2 / (2 q W); inverse_star_weight_ holds 1 / W.
+  if (q != 0.0) {
+    energy += 0.5 / q * accumulator.cwiseAbs2().dot(inverse_star_weight_);
+  }
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double elongation[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      elongation[i / 4] += (positions.col(b[s]) - positions.col(a[s])).norm() - rest[s];
+    }
+    energy += model_->correction_coefficients()[e] *
+              (elongation[0] * elongation[1] + elongation[1] * elongation[2] +
+               elongation[2] * elongation[0]);
+  }
+  return energy;
+}
+
+double ForceEvaluator::ElasticEnergy(const Eigen::Matrix3Xd& positions) const {
+  return model_->spring_law() == SpringLaw::kLinear ? EnergyImpl<SpringLaw::kLinear>(positions)
+                                                    : EnergyImpl<SpringLaw::kNonlinear>(positions);
+}
+
+template <SpringLaw Law>
+void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& k = model_->spring_stiffness();
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const Eigen::Vector3d r = positions.col(b[s]) - positions.col(a[s]);
+    lengths_[s] = r.norm();
+    directions_.col(s) = r / lengths_[s];
+    tangent_stiffness_[s] = SpringTangentStiffness<Law>(k[s], rest[s], lengths_[s]);
+  }
+}
+
+void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions) {
+  // Exact (two-pass) total tensions at `positions`, without disturbing the one-pass history of
+  // the caller's simulation.
+  const DispersionPasses saved_passes = passes_;
+  const bool saved_has_previous = has_previous_dispersion_;
+  const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
+  passes_ = DispersionPasses::kTwoPass;
+  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
+  AccumulateForces(positions, &scratch);
+  passes_ = saved_passes;
+  has_previous_dispersion_ = saved_has_previous;
+  dispersion_per_weight_ = saved_dispersion;
+  model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
+                                             : LinearizeImpl<SpringLaw::kNonlinear>(positions);
+}
+
+void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  out->setZero(3, model_->num_nodes());
+  Eigen::VectorXd accumulator_change;
+  if (disperse) accumulator_change.setZero(model_->num_nodes());
+  // The force on a is T u (T total tension, u from a to b); its change is dT u + T du with
+  // du = (dv - u (u . dv)) / L. K v = -d(force).
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const Eigen::Vector3d dv = v.col(b[s]) - v.col(a[s]);
+    const Eigen::Vector3d u = directions_.col(s);
+    const double stretch_rate = u.dot(dv);
+    const double dt = tangent_stiffness_[s] * stretch_rate;
+    const Eigen::Vector3d df =
+        dt * u + (total_tensions_[s] / lengths_[s]) * (dv - u * stretch_rate);
+    out->col(a[s]) -= df;
+    out->col(b[s]) += df;
+    if (disperse) {
+      accumulator_change[a[s]] += inflow_a_[s] * dt;
+      accumulator_change[b[s]] += inflow_b_[s] * dt;
+    }
+  }
+  ApplyCorrectionStiffness(v, out);
+  if (!disperse) return;
+  const Eigen::VectorXd dg = accumulator_change.cwiseProduct(inverse_star_weight_);
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const double dt_dispersed = outflow_a_[s] * dg[a[s]] + outflow_b_[s] * dg[b[s]];
+    const Eigen::Vector3d df = dt_dispersed * directions_.col(s);
+    out->col(a[s]) -= df;
+    out->col(b[s]) += df;
+  }
+}
+
+void ForceEvaluator::ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v,
+                                              Eigen::Matrix3Xd* out) const {
+  // The correction tensions' change: d tension_j = c sum_{i != j} dS_i, dS_i = sum u . dv over the
+  // edges along i, applied along each edge (their own direction change is in the geometric term
+  // of ApplyStiffness, since total_tensions_ includes them).
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double rate[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      rate[i / 4] += directions_.col(s).dot(v.col(b[s]) - v.col(a[s]));
+    }
+    const double sum = rate[0] + rate[1] + rate[2];
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      const Eigen::Vector3d df =
+          model_->correction_coefficients()[e] * (sum - rate[i / 4]) * directions_.col(s);
+      out->col(a[s]) -= df;
+      out->col(b[s]) += df;
+    }
+  }
+}
+
+Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  const int n = model_->num_nodes();
+  Eigen::Matrix3Xd diagonal = Eigen::Matrix3Xd::Zero(3, n);
+  // Dispersion couples node a to itself through J_a: (1 / W_a) s1 s2^T with s1 = sum (w / L0) u
+  // and s2 = sum (q v L0) k' u over the springs at a (u pointing away from a).
+  Eigen::Matrix3Xd s1 = Eigen::Matrix3Xd::Zero(3, n);
+  Eigen::Matrix3Xd s2 = Eigen::Matrix3Xd::Zero(3, n);
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const Eigen::Vector3d u = directions_.col(s);
+    const Eigen::Vector3d u2 = u.cwiseProduct(u);
+    const double kt = tangent_stiffness_[s];
+    const double geometric = total_tensions_[s] / lengths_[s];
+    const Eigen::Vector3d block = kt * u2 + geometric * (Eigen::Vector3d::Ones() - u2);
+    diagonal.col(a[s]) += block;
+    diagonal.col(b[s]) += block;
+    if (disperse) {
+      // And through J of the other end, which holds this spring's own inflow.
+      diagonal.col(a[s]) += kt * outflow_b_[s] * inflow_b_[s] * inverse_star_weight_[b[s]] * u2;
+      diagonal.col(b[s]) += kt * outflow_a_[s] * inflow_a_[s] * inverse_star_weight_[a[s]] * u2;
+      s1.col(a[s]) += outflow_a_[s] * u;
+      s1.col(b[s]) -= outflow_b_[s] * u;
+      s2.col(a[s]) += inflow_a_[s] * kt * u;
+      s2.col(b[s]) -= inflow_b_[s] * kt * u;
+    }
+  }
+  if (disperse) {
+    for (int i = 0; i < n; ++i) {
+      diagonal.col(i) += inverse_star_weight_[i] * s1.col(i).cwiseProduct(s2.col(i));
+    }
+  }
+  // Correction: at a node, an edge along one axis responds to the elongation of the element's
+  // edges along the other axes through the same node: c sum w_f w_e over such pairs (f, e), with
+  // w pointing away from the node.
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    for (int f = 0; f < 12; ++f) {
+      for (int g = 0; g < 12; ++g) {
+        if (f / 4 == g / 4) continue;
+        const SpringIndex sf = edges[e][f];
+        const SpringIndex sg = edges[e][g];
+        for (const NodeIndex node : {a[sf], b[sf]}) {
+          if (node != a[sg] && node != b[sg]) continue;
+          const Eigen::Vector3d wf = (node == a[sf] ? 1.0 : -1.0) * directions_.col(sf);
+          const Eigen::Vector3d wg = (node == a[sg] ? 1.0 : -1.0) * directions_.col(sg);
+          diagonal.col(node) += model_->correction_coefficients()[e] * wf.cwiseProduct(wg);
+        }
+      }
+    }
+  }
+  return diagonal;
+}
+
+}  // namespace msm_sim::core

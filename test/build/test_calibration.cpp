@@ -1,0 +1,121 @@
+// Acceptance tests of the calibrated models against linear elasticity (SPEC.md §2, §6; thesis
+// 3.2.2-3.2.6). Tolerances are those of the project's issue "Calibrated MSM core".
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "compression_helpers.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/experiments/cantilever_experiment.h"
+#include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/model/model_statistics.h"
+
+namespace msm_sim::core {
+namespace {
+
+constexpr double kYoungs = 1e5;
+const Material kMaterial = Material::FromYoungsPoisson(kYoungs, 0.25, 1100.0);
+const Eigen::Vector3d kBlock(2.0, 1.0, 1.0);  // one physical block, m
+
+using testing::Compress;
+
+CompressionExperimentResult CompressCubic(CubicConstruction construction, double spacing,
+                                          double angle_deg = 0.0) {
+  CubicLatticeOptions options;
+  options.size = kBlock;
+  options.spacing = spacing;
+  options.construction = construction;
+  options.rotation_axis = Eigen::Vector3d(0.4, -0.3, 0.7);
+  options.rotation_angle = angle_deg * M_PI / 180.0;
+  return Compress(BuildCubicLattice(kMaterial, options), kBlock);
+}
+
+// Spacings 1/6, 1/12 and 1/24 m: 6, 12 and 24 cells across; the finest is 1/4 of the coarsest.
+const std::vector<double> kResolutions = {1.0 / 6.0, 1.0 / 12.0, 1.0 / 24.0};
+
+TEST(Calibration, ElementCornerCubicMatchesEAndNuAtThreeResolutions) {
+  for (const double a : kResolutions) {
+    const CompressionExperimentResult r = CompressCubic(CubicConstruction::kElementCorner, a);
+    EXPECT_NEAR(r.youngs_measured / kYoungs, 1.0, 0.02) << "spacing " << a;
+    EXPECT_NEAR(r.poisson_measured, 0.25, 0.005) << "spacing " << a;
+    RecordProperty("element_corner_E_" + std::to_string(a), std::to_string(r.youngs_measured));
+  }
+}
+
+TEST(Calibration, NodeCentredCubicMatchesEAndNuAtThreeResolutions) {
+  for (const double a : kResolutions) {
+    const CompressionExperimentResult r = CompressCubic(CubicConstruction::kNodeCentred, a);
+    EXPECT_NEAR(r.youngs_measured / kYoungs, 1.0, 0.03) << "spacing " << a;
+    EXPECT_NEAR(r.poisson_measured, 0.25, 0.01) << "spacing " << a;
+  }
+}
+
+TEST(Calibration, SurfaceCompensationIsWhatMakesCoarseNodeCentredBlocksAccurate) {
+  CubicLatticeOptions options;
+  options.size = kBlock;
+  options.spacing = 1.0 / 6.0;
+  options.compensate_surface = false;
+  const CompressionExperimentResult r = Compress(BuildCubicLattice(kMaterial, options), kBlock);
+  // About 2/(3n) of E is missing without it (n = 6 cells across).
+  EXPECT_LT(r.youngs_measured / kYoungs, 0.93);
+}
+
+TEST(Calibration, NodeCentredCubicIsIsotropicUnderLatticeRotation) {
+  std::vector<double> youngs;
+  for (const double angle : {0.0, 15.0, 30.0, 45.0, 60.0, 90.0}) {
+    const CompressionExperimentResult r =
+        CompressCubic(CubicConstruction::kNodeCentred, 1.0 / 16.0, angle);
+    youngs.push_back(r.youngs_measured);
+    EXPECT_NEAR(r.poisson_measured, 0.25, 0.01) << angle << " deg";
+  }
+  const auto [min, max] = std::minmax_element(youngs.begin(), youngs.end());
+  double mean = 0.0;
+  for (double e : youngs) mean += e / youngs.size();
+  EXPECT_LT((*max - *min) / mean, 0.03);
+}
+
+TEST(Calibration, RandomLatticeMatchesEAndNuForTwoSeeds) {
+  for (const std::uint64_t seed : {1u, 2u}) {
+    RandomLatticeOptions options;
+    options.size = Eigen::Vector3d(3.0, 1.0, 1.0);
+    options.spacing = 0.1;
+    options.min_distance = 0.8;
+    options.max_distance = 1.9;
+    options.seed = seed;
+    const Model model = BuildRandomLattice(kMaterial, options);
+    const ModelStatistics stats = ComputeModelStatistics(model);
+    ASSERT_GE(stats.mean_springs_per_node, 15.0);
+    ASSERT_LE(stats.mean_springs_per_node, 25.0);
+    const CompressionExperimentResult r = Compress(model, options.size);
+    EXPECT_NEAR(r.youngs_measured / kYoungs, 1.0, 0.05) << "seed " << seed;
+    EXPECT_NEAR(r.poisson_measured, 0.25, 0.02) << "seed " << seed;
+  }
+}
+
+TEST(Calibration, NodeCentredCantileverFollowsEulerBernoulliAtTwoResolutions) {
+  std::vector<double> tips;
+  for (const double a : {1.0 / 16.0, 1.0 / 20.0}) {
+    CubicLatticeOptions lattice;
+    lattice.size = Eigen::Vector3d(4.0, 1.0, 1.0);
+    lattice.spacing = a;
+    const Model model = BuildCubicLattice(kMaterial, lattice);
+    CantileverExperimentOptions options;
+    options.body_size = lattice.size;
+    options.total_force = 0.1;  // tip deflection ~ 2.5e-4 m: small deflection
+    const CantileverExperimentResult r = RunCantileverExperiment(model, options);
+    ASSERT_TRUE(r.solver.converged) << r.solver.message;
+    EXPECT_NEAR(r.tip_deflection / r.theory_tip_deflection, 1.0, 0.05) << "spacing " << a;
+    // The whole profile bends the right way: deflection grows along the bar.
+    for (std::size_t i = 1; i < r.profile.size(); ++i) {
+      EXPECT_GT(r.profile[i].deflection, r.profile[i - 1].deflection);
+    }
+    tips.push_back(r.tip_deflection);
+  }
+  EXPECT_NEAR(tips[0] / tips[1], 1.0, 0.03);
+}
+
+}  // namespace
+}  // namespace msm_sim::core

@@ -1,0 +1,217 @@
+// Unit tests of the dynamics building blocks: collider shapes, dampers, the stable step,
+// border nodes, kinematic groups and their reactions, pushes.
+#include <cmath>
+#include <memory>
+
+#include <gtest/gtest.h>
+#include <Eigen/Dense>
+
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/dynamics/border_nodes.h"
+#include "msm_sim/dynamics/collider.h"
+#include "msm_sim/dynamics/world.h"
+#include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/mechanics/stable_time_step.h"
+#include "msm_sim/model/model_builder.h"
+#include "msm_sim/model/node_selection.h"
+
+namespace msm_sim::core {
+namespace {
+
+void ExpectDistance(const ColliderShape& shape, const Eigen::Vector3d& p, double distance,
+                    const Eigen::Vector3d& normal) {
+  Eigen::Vector3d n, closest;
+  EXPECT_NEAR(shape.SignedDistance(p, &n, &closest), distance, 1e-12) << p.transpose();
+  EXPECT_LT((n - normal).norm(), 1e-12) << p.transpose() << " normal " << n.transpose();
+  // The closest point lies at the signed distance back along the normal.
+  EXPECT_LT((closest + distance * n - p).norm(), 1e-12) << p.transpose();
+}
+
+TEST(ColliderShape, SignedDistancesOfThePrimitives) {
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), z = Eigen::Vector3d::UnitZ();
+  ExpectDistance(ColliderShape::Plane(), Eigen::Vector3d(3, 4, 0.2), 0.2, z);
+  ExpectDistance(ColliderShape::Plane(), Eigen::Vector3d(3, 4, -0.2), -0.2, z);
+  const ColliderShape box = ColliderShape::Box(Eigen::Vector3d(2, 2, 2));
+  ExpectDistance(box, Eigen::Vector3d(1.5, 0, 0), 0.5, x);
+  ExpectDistance(box, Eigen::Vector3d(0.9, 0.2, 0.1), -0.1, x);
+  ExpectDistance(box, Eigen::Vector3d(2, 2, 0), std::sqrt(2.0),
+                 Eigen::Vector3d(1, 1, 0).normalized());
+  ExpectDistance(ColliderShape::Sphere(0.5), Eigen::Vector3d(0, 0, 2), 1.5, z);
+  ExpectDistance(ColliderShape::Sphere(0.5), Eigen::Vector3d(0.3, 0, 0), -0.2, x);
+  const ColliderShape capsule = ColliderShape::Capsule(0.1, 1.0);
+  ExpectDistance(capsule, Eigen::Vector3d(0.3, 0, 0.2), 0.2, x);
+  ExpectDistance(capsule, Eigen::Vector3d(0, 0, 0.8), 0.2, z);
+  const ColliderShape cylinder = ColliderShape::Cylinder(0.5, 1.0);
+  ExpectDistance(cylinder, Eigen::Vector3d(1, 0, 0.1), 0.5, x);
+  ExpectDistance(cylinder, Eigen::Vector3d(0.1, 0, 0.9), 0.4, z);
+  ExpectDistance(cylinder, Eigen::Vector3d(0.1, 0, 0.45), -0.05, z);
+  ExpectDistance(cylinder, Eigen::Vector3d(0.4, 0, 0), -0.1, x);
+  EXPECT_THROW(ColliderShape::Sphere(0.0), std::invalid_argument);
+  EXPECT_THROW(ColliderShape::Box(Eigen::Vector3d(1, std::nan(""), 1)), std::invalid_argument);
+}
+
+TEST(ColliderShape, MeshColliderMatchesTheSphereItApproximates) {
+  const auto mesh = std::make_shared<const SolidMesh>(MakeIcosphereMesh(1.0, 5));
+  const ColliderShape shape = ColliderShape::Mesh(mesh);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 1.3), Eigen::Vector3d(0.5, -0.4, 0.2),
+                                   Eigen::Vector3d(-1.1, 0.6, 0.3)}) {
+    Eigen::Vector3d n, closest;
+    const double d = shape.SignedDistance(p, &n, &closest);
+    EXPECT_NEAR(d, p.norm() - 1.0, 2e-3) << p.transpose();
+    EXPECT_GT(n.dot(p.normalized()), 0.999);
+  }
+}
+
+TEST(ForceEvaluator, DampersPullWithBetaKTimesTheStretchRate) {
+  ModelBuilder builder(Material::FromYoungsPoisson(1e5, 0.25, 1000.0));
+  builder.AddNode(Eigen::Vector3d::Zero(), 1.0);
+  builder.AddNode(Eigen::Vector3d(1, 0, 0), 1.0);
+  builder.AddSpring(0, 1, 200.0);
+  const Model model = builder.Build(1.0, 1.0);
+  ForceEvaluator evaluator(model);
+  Eigen::Matrix3Xd x = model.rest_positions();
+  Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, 2);
+  v.col(1) = Eigen::Vector3d(0.5, 0.3, 0.0);  // lengthening at 0.5 m/s (the 0.3 is a rotation)
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, 2);
+  evaluator.AccumulateForces(x, v, 0.01, &f);
+  // t = beta k dL/dt = 0.01 * 200 * 0.5 = 1 N, pulling the ends together.
+  EXPECT_NEAR(evaluator.total_tensions()[0], 1.0, 1e-12);
+  EXPECT_LT((f.col(0) - Eigen::Vector3d(1, 0, 0)).norm(), 1e-12);
+  EXPECT_LT((f.col(1) + Eigen::Vector3d(1, 0, 0)).norm(), 1e-12);
+}
+
+TEST(StableTimeStep, MatchesTheLargestEigenfrequency) {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d(0.3, 0.2, 0.2);
+  lattice.spacing = 0.05;
+  for (const double nu : {0.25, 0.45}) {
+    const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, nu, 1000.0), lattice);
+    // Dense M^-1/2 K M^-1/2, column by column.
+    ForceEvaluator evaluator(model);
+    evaluator.Linearize(model.rest_positions());
+    const int n = 3 * model.num_nodes();
+    Eigen::MatrixXd a(n, n);
+    for (int column = 0; column < n; ++column) {
+      Eigen::Matrix3Xd unit = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+      unit(column % 3, column / 3) = 1.0 / std::sqrt(model.masses()[column / 3]);
+      Eigen::Matrix3Xd k_unit(3, model.num_nodes());
+      evaluator.ApplyStiffness(unit, &k_unit);
+      for (int row = 0; row < n; ++row) {
+        a(row, column) = k_unit(row % 3, row / 3) / std::sqrt(model.masses()[row / 3]);
+      }
+    }
+    const double lambda = a.eigenvalues().real().maxCoeff();
+    StableTimeStepOptions options;
+    options.safety = 1.0;
+    EXPECT_NEAR(StableTimeStep(model, options) / (2.0 / std::sqrt(lambda)), 1.0, 0.01)
+        << "nu " << nu;
+    // Dampers shorten it.
+    options.damping_beta = 1e-3;
+    EXPECT_LT(StableTimeStep(model, options), 2.0 / std::sqrt(lambda));
+  }
+}
+
+TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d::Constant(0.4);
+  lattice.spacing = 0.1;  // 4 x 4 x 4 nodes, 8 inside
+  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), lattice);
+  const BorderNodes border = FindBorderNodes(model);
+  EXPECT_EQ(border.nodes.size(), 56u);
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    EXPECT_GT(border.radii[k], 0.05);                        // half the A spring
+    EXPECT_LT(border.radii[k], 0.5 * std::sqrt(2.0) * 0.1);  // half the B spring
+  }
+}
+
+std::shared_ptr<const Model> Block() {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d::Constant(0.2);
+  lattice.spacing = 0.04;
+  return std::make_shared<Model>(
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice));
+}
+
+// The clamp's reaction balances a static push and the weight (Newton's third law).
+TEST(World, ClampReactionBalancesAStaticPush) {
+  World world;
+  BodyOptions options;
+  options.damping_beta = 0.01;
+  const auto block = Block();
+  const int body = world.AddBody("block", block, options);
+  // The bottom layer: the half-space below z = 3 cm (nodes at 2, 6, ... cm).
+  const KinematicGroup clamp{
+      "base", NodesInHalfSpace(*block, Eigen::Vector3d(0, 0, 0.03), Eigen::Vector3d::UnitZ()), {}};
+  ASSERT_EQ(clamp.nodes,
+            NodesInBox(*block, Eigen::Vector3d(-1, -1, -1), Eigen::Vector3d(1, 1, 0.03)));
+  ASSERT_EQ(clamp.nodes.size(), 25u);
+  world.AddKinematicGroup(body, clamp);
+  const Eigen::Vector3d push(3.0, 0.0, -20.0);
+  world.ApplyForce(body, Eigen::Vector3d(0.1, 0.1, 0.18), push, 0.03, 10.0);
+  for (int step = 0; step < 1500; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+  Eigen::Vector3d on_clamp = Eigen::Vector3d::Zero();
+  for (int step = 0; step < 200; ++step) {
+    ASSERT_TRUE(world.Step(1e-3).accepted);
+    on_clamp += world.wrenches(body).back().force / 200;
+  }
+  const Eigen::Vector3d expected = push + block->masses().sum() * Eigen::Vector3d(0, 0, -9.81);
+  EXPECT_LT((on_clamp - expected).norm(), 0.02 * expected.norm())
+      << on_clamp.transpose() << " vs " << expected.transpose();
+  // Every clamped node carries reaction in every substep.
+  const int events = world.wrenches(body).back().microcollisions;
+  EXPECT_GT(events, 0);
+  EXPECT_EQ(events % static_cast<int>(clamp.nodes.size()), 0);
+}
+
+TEST(World, KinematicGroupsFollowTheirFrame) {
+  World world(WorldOptions{Eigen::Vector3d::Zero()});
+  const auto block = Block();
+  const int body = world.AddBody("block", block);
+  KinematicGroup grip{"grip", {0, 1, 2}, [](double t) {
+                        Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+                        pose.translation() = Eigen::Vector3d(0.1 * t, 0.0, 0.0);
+                        pose.linear() =
+                            Eigen::AngleAxisd(0.5 * t, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+                        return pose;
+                      }};
+  world.AddKinematicGroup(body, grip);
+  for (int step = 0; step < 100; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+  const Eigen::Isometry3d pose = grip.pose(world.time());
+  for (const NodeIndex node : grip.nodes) {
+    EXPECT_LT((world.state(body).positions.col(node) -
+               pose * Eigen::Vector3d(block->rest_positions().col(node)))
+                  .norm(),
+              1e-12);
+  }
+}
+
+TEST(World, PushesSpreadOverNearbyNodesByMass) {
+  World world(WorldOptions{Eigen::Vector3d::Zero()});
+  const auto block = Block();
+  const int body = world.AddBody("block", block);
+  // Far from every node within the radius: the nearest node takes it all.
+  world.ApplyForce(body, Eigen::Vector3d(5, 5, 5), Eigen::Vector3d(0, 0, 1), 0.01, 0.0);
+  ASSERT_TRUE(world.Step(1e-3).accepted);
+  const Eigen::Vector3d momentum =
+      world.state(body).velocities * block->masses();  // = impulse of the push
+  EXPECT_LT((momentum - Eigen::Vector3d(0, 0, 1e-3)).norm(), 1e-12);
+  EXPECT_THROW(world.ApplyForce(body, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), -1.0, 0.0),
+               std::invalid_argument);
+  EXPECT_THROW(world.ApplyForce(7, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.1, 0.0),
+               std::invalid_argument);
+}
+
+TEST(World, ResetRestoresTheRestState) {
+  World world;
+  const auto block = Block();
+  const int body = world.AddBody("block", block);
+  for (int step = 0; step < 50; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+  EXPECT_GT((world.state(body).positions - block->rest_positions()).norm(), 1e-3);
+  world.Reset();
+  EXPECT_EQ(world.state(body).positions, block->rest_positions());
+  EXPECT_EQ(world.time(), 0.0);
+}
+
+}  // namespace
+}  // namespace msm_sim::core

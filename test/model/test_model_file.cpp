@@ -1,0 +1,513 @@
+// Model files (SaveModel / LoadModel) and the VTK export: bit-exact round trips of every model
+// kind, and one clean std::runtime_error, never a crash, for every damaged or foreign file.
+#include <sys/stat.h>
+#include <sys/types.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/geometry/vtk_export.h"
+#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/model/model_file.h"
+#include "msm_sim/model/state.h"
+
+namespace msm_sim::core {
+namespace {
+
+using Bytes = std::vector<unsigned char>;
+
+// Layout of format version 1 (model_file.h), for crafting damaged files.
+constexpr std::size_t kVersionOffset = 16;
+constexpr std::size_t kCountsOffset = 20;
+constexpr std::size_t kLawOffset = 32;
+constexpr std::size_t kMaterialOffset = 36;
+constexpr std::size_t kNodesOffset = 84;
+
+Model CubicModel() {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(0.4, 0.3, 0.3);
+  options.spacing = 0.1;
+  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), options);
+}
+
+Model RandomModel() {
+  RandomLatticeOptions options;
+  options.size = Eigen::Vector3d(0.5, 0.4, 0.4);
+  options.spacing = 0.1;
+  options.seed = 7;
+  return BuildRandomLattice(Material::FromYoungsPoisson(2e5, 0.4, 1200.0), options);
+}
+
+Model BaudetModel(double size = 0.3) {
+  BaudetLatticeOptions options;
+  options.size = Eigen::Vector3d(size, size, size);
+  options.spacing = 0.1;
+  options.spring_law = SpringLaw::kNonlinear;
+  return BuildBaudetLattice(Material::FromYoungsPoisson(1e5, 0.4, 1100.0), options);
+}
+
+template <typename T>
+bool SameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() &&
+         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+template <typename Derived>
+bool SameBits(const Eigen::DenseBase<Derived>& a, const Eigen::DenseBase<Derived>& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.derived().data(), b.derived().data(), a.size() * sizeof(double)) == 0;
+}
+
+bool SameBits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void ExpectIdentical(const Model& a, const Model& b) {
+  ASSERT_EQ(a.num_nodes(), b.num_nodes());
+  ASSERT_EQ(a.num_springs(), b.num_springs());
+  EXPECT_TRUE(SameBits(a.rest_positions(), b.rest_positions()));
+  EXPECT_TRUE(SameBits(a.masses(), b.masses()));
+  EXPECT_EQ(a.spring_node_a(), b.spring_node_a());
+  EXPECT_EQ(a.spring_node_b(), b.spring_node_b());
+  EXPECT_TRUE(SameBits(a.spring_rest_length(), b.spring_rest_length()));
+  EXPECT_TRUE(SameBits(a.spring_stiffness(), b.spring_stiffness()));
+  EXPECT_TRUE(SameBits(a.dispersion_weight_a(), b.dispersion_weight_a()));
+  EXPECT_TRUE(SameBits(a.dispersion_weight_b(), b.dispersion_weight_b()));
+  EXPECT_EQ(a.correction_edges(), b.correction_edges());
+  EXPECT_TRUE(SameBits(a.correction_coefficients(), b.correction_coefficients()));
+  EXPECT_EQ(a.incidence_offsets(), b.incidence_offsets());
+  EXPECT_EQ(a.incident_springs(), b.incident_springs());
+  EXPECT_EQ(a.spring_law(), b.spring_law());
+  EXPECT_TRUE(SameBits(a.dispersion_fraction(), b.dispersion_fraction()));
+  EXPECT_TRUE(SameBits(a.volume(), b.volume()));
+  EXPECT_TRUE(SameBits(a.characteristic_length(), b.characteristic_length()));
+  EXPECT_TRUE(SameBits(a.material().youngs_modulus(), b.material().youngs_modulus()));
+  EXPECT_TRUE(SameBits(a.material().poisson_ratio(), b.material().poisson_ratio()));
+  EXPECT_TRUE(SameBits(a.material().density(), b.material().density()));
+}
+
+// Perturbs every node by up to 1 % of the spacing, so springs, dispersion and corrections all act.
+Eigen::Matrix3Xd Perturbed(const Model& model) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  Eigen::Matrix3Xd positions = model.rest_positions();
+  for (Eigen::Index i = 0; i < positions.size(); ++i) {
+    positions.data()[i] += 0.01 * model.characteristic_length() * uniform(rng);
+  }
+  return positions;
+}
+
+void ExpectSameForces(const Model& a, const Model& b) {
+  const Eigen::Matrix3Xd positions = Perturbed(a);
+  ForceEvaluator eval_a(a), eval_b(b);
+  Eigen::Matrix3Xd forces_a = Eigen::Matrix3Xd::Zero(3, a.num_nodes());
+  Eigen::Matrix3Xd forces_b = Eigen::Matrix3Xd::Zero(3, b.num_nodes());
+  eval_a.AccumulateForces(positions, &forces_a);
+  eval_b.AccumulateForces(positions, &forces_b);
+  EXPECT_GT(forces_a.norm(), 0.0);
+  EXPECT_TRUE(SameBits(forces_a, forces_b));
+  EXPECT_TRUE(SameBits(eval_a.ElasticEnergy(positions), eval_b.ElasticEnergy(positions)));
+}
+
+Bytes ReadBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void WriteBytes(const std::string& path, const unsigned char* data, std::size_t size) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  ASSERT_TRUE(out.good());
+}
+void WriteBytes(const std::string& path, const Bytes& bytes) {
+  WriteBytes(path, bytes.data(), bytes.size());
+}
+
+std::uint32_t GetU32(const Bytes& bytes, std::size_t offset) {
+  std::uint32_t value = 0;
+  for (int i = 0; i < 4; ++i) value |= std::uint32_t{bytes[offset + i]} << (8 * i);
+  return value;
+}
+void PutU32(Bytes* bytes, std::size_t offset, std::uint32_t value) {
+  for (int i = 0; i < 4; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(value >> (8 * i));
+}
+void PutU64(Bytes* bytes, std::size_t offset, std::uint64_t value) {
+  for (int i = 0; i < 8; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(value >> (8 * i));
+}
+double GetF64(const Bytes& bytes, std::size_t offset) {
+  std::uint64_t bits = 0;
+  for (int i = 0; i < 8; ++i) bits |= std::uint64_t{bytes[offset + i]} << (8 * i);
+  double value;
+  std::memcpy(&value, &bits, sizeof value);
+  return value;
+}
+void PutF64(Bytes* bytes, std::size_t offset, double value) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  PutU64(bytes, offset, bits);
+}
+
+// Recomputes the trailing FNV-1a 64 checksum, so that a test can hand LoadModel a file whose
+// only defect is the one it planted (a malicious file, rather than a corrupt one).
+void Reseal(Bytes* bytes) {
+  std::uint64_t hash = 14695981039346656037ULL;
+  for (std::size_t i = 0; i + 8 < bytes->size(); ++i)
+    hash = (hash ^ (*bytes)[i]) * 1099511628211ULL;
+  PutU64(bytes, bytes->size() - 8, hash);
+}
+
+class ModelFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = ::testing::TempDir() + "msm_model_file_XXXXXX";
+    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
+
+  // The file SaveModel writes for `model`.
+  Bytes Saved(const Model& model) {
+    const std::string path = Path("saved.msm");
+    SaveModel(model, path);
+    return ReadBytes(path);
+  }
+
+  // LoadModel's message for `bytes`; fails the test unless it throws std::runtime_error.
+  std::string LoadError(const Bytes& bytes) {
+    const std::string path = Path("damaged.msm");
+    WriteBytes(path, bytes);
+    try {
+      LoadModel(path);
+    } catch (const std::runtime_error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(path), std::string::npos) << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      return message;
+    }
+    ADD_FAILURE() << "LoadModel accepted the file";
+    return "";
+  }
+
+  std::string dir_;
+};
+
+#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
+
+TEST_F(ModelFileTest, RoundTripsACubicEmsmLattice) {
+  const Model model = CubicModel();
+  ASSERT_GT(model.dispersion_fraction(), 0.0);
+  SaveModel(model, Path("cubic.msm"));
+  const Model loaded = LoadModel(Path("cubic.msm"));
+  ExpectIdentical(model, loaded);
+  ExpectSameForces(model, loaded);
+}
+
+TEST_F(ModelFileTest, RoundTripsARandomLattice) {
+  const Model model = RandomModel();
+  SaveModel(model, Path("random.msm"));
+  const Model loaded = LoadModel(Path("random.msm"));
+  ExpectIdentical(model, loaded);
+  ExpectSameForces(model, loaded);
+}
+
+TEST_F(ModelFileTest, RoundTripsABaudetLattice) {
+  const Model model = BaudetModel();
+  ASSERT_FALSE(model.correction_edges().empty());
+  SaveModel(model, Path("baudet.msm"));
+  const Model loaded = LoadModel(Path("baudet.msm"));
+  ExpectIdentical(model, loaded);
+  ExpectSameForces(model, loaded);
+}
+
+TEST_F(ModelFileTest, SaveReplacesAnExistingFileAndLeavesNoTemporaryFile) {
+  SaveModel(CubicModel(), Path("model.msm"));
+  const Model baudet = BaudetModel();
+  SaveModel(baudet, Path("model.msm"));
+  ExpectIdentical(baudet, LoadModel(Path("model.msm")));
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+    ++files;
+    EXPECT_EQ(entry.path().filename(), "model.msm");
+  }
+  EXPECT_EQ(files, 1);
+}
+
+TEST_F(ModelFileTest, SaveToAnUnwritablePathThrows) {
+  const Model model = BaudetModel(0.1);
+  const std::string missing_dir = Path("no_such_dir/model.msm");
+  try {
+    SaveModel(model, missing_dir);
+    ADD_FAILURE() << "SaveModel wrote into a missing directory";
+  } catch (const std::runtime_error& e) {
+    EXPECT_CONTAINS(std::string(e.what()), missing_dir);
+  }
+  // A directory in the way: the rename fails, and the temporary file must not stay behind.
+  std::filesystem::create_directory(Path("taken"));
+  EXPECT_THROW(SaveModel(model, Path("taken")), std::runtime_error);
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+    ++files;
+    EXPECT_EQ(entry.path().filename(), "taken");
+  }
+  EXPECT_EQ(files, 1);
+}
+
+TEST_F(ModelFileTest, RejectsFilesThatAreNotModelFiles) {
+  try {
+    LoadModel(Path("missing.msm"));
+    ADD_FAILURE() << "loaded a missing file";
+  } catch (const std::runtime_error& e) {
+    EXPECT_CONTAINS(std::string(e.what()), "cannot open: No such file or directory");
+  }
+  EXPECT_CONTAINS(LoadError({}), "empty file");
+  const std::string text = "E = 1e5\nnu = 0.3\nthis is a text file, not a model\n";
+  EXPECT_CONTAINS(LoadError(Bytes(text.begin(), text.end())), "bad magic");
+  EXPECT_CONTAINS(LoadError(Bytes(200, 0)), "bad magic");
+
+  try {
+    LoadModel(dir_);
+    ADD_FAILURE() << "loaded a directory";
+  } catch (const std::runtime_error& e) {
+    EXPECT_CONTAINS(std::string(e.what()), "is a directory");
+  }
+  // A FIFO without a writer would block a plain open() forever.
+  ASSERT_EQ(mkfifo(Path("fifo").c_str(), 0600), 0);
+  try {
+    LoadModel(Path("fifo"));
+    ADD_FAILURE() << "loaded a FIFO";
+  } catch (const std::runtime_error& e) {
+    EXPECT_CONTAINS(std::string(e.what()), "not a regular file");
+  }
+}
+
+TEST_F(ModelFileTest, RejectsBadMagicAndOtherVersions) {
+  const Bytes good = Saved(BaudetModel(0.1));
+  Bytes bad_magic = good;
+  bad_magic[3] = 'X';
+  EXPECT_CONTAINS(LoadError(bad_magic), "not an msm_sim model file (bad magic)");
+
+  Bytes newer = good;
+  PutU32(&newer, kVersionOffset, 7);
+  Reseal(&newer);
+  EXPECT_CONTAINS(LoadError(newer), "written by format version 7, this build reads version 1");
+}
+
+TEST_F(ModelFileTest, EveryTruncationThrows) {
+  const Bytes good = Saved(BaudetModel(0.1));
+  ASSERT_GT(good.size(), 1000u);
+  for (std::size_t length = 0; length < good.size(); ++length) {
+    WriteBytes(Path("prefix.msm"), good.data(), length);
+    EXPECT_THROW(LoadModel(Path("prefix.msm")), std::runtime_error) << "prefix " << length;
+  }
+  const Bytes prefix(good.begin(), good.end() - 1);
+  EXPECT_CONTAINS(LoadError(prefix), "truncated (expected " + std::to_string(good.size()) +
+                                         " bytes, file has " + std::to_string(prefix.size()) + ")");
+  Bytes longer = good;
+  longer.push_back(0);
+  EXPECT_CONTAINS(LoadError(longer), "trailing data");
+}
+
+TEST_F(ModelFileTest, EveryFlippedByteThrows) {
+  const Bytes good = Saved(BaudetModel(0.1));
+  for (std::size_t i = 0; i < good.size(); ++i) {
+    for (const unsigned char mask : {0x01, 0x80, 0xff}) {
+      Bytes damaged = good;
+      damaged[i] ^= mask;
+      WriteBytes(Path("flipped.msm"), damaged);
+      EXPECT_THROW(LoadModel(Path("flipped.msm")), std::runtime_error) << "byte " << i;
+    }
+  }
+  // A flipped payload byte is reported as corruption, not as whatever it happens to spell.
+  Bytes damaged = good;
+  damaged[good.size() / 2] ^= 0x10;
+  EXPECT_CONTAINS(LoadError(damaged), "checksum mismatch (file corrupt)");
+}
+
+// Files with a valid checksum but invalid content: what a buggy or malicious writer produces.
+TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
+  const Bytes good = Saved(BaudetModel(0.1));
+  const std::uint32_t nodes = GetU32(good, kCountsOffset);
+  const std::uint32_t springs = GetU32(good, kCountsOffset + 4);
+  const std::size_t springs_offset = kNodesOffset + 32 * std::size_t{nodes};
+  const std::size_t corrections_offset = springs_offset + 40 * std::size_t{springs};
+  auto edit = [&](auto change) {
+    Bytes bytes = good;
+    change(&bytes);
+    Reseal(&bytes);
+    return LoadError(bytes);
+  };
+
+  // Absurd counts are refused before anything is allocated.
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset, 0x7fffffff); }), "truncated");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset + 4, 0xffffffff); }),
+                  "counts out of range");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset, 0); }), "no nodes");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kLawOffset, 2); }), "unknown spring law code 2");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kMaterialOffset + 8, 0.5); }),
+                  "invalid material: Poisson's ratio");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kMaterialOffset + 24, -0.5); }),
+                  "dispersion fraction");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kMaterialOffset + 32, 0.0); }), "volume");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 24, std::nan("")); }),
+                  "node 0 has mass nan");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 32 + 8, INFINITY); }),
+                  "node 1 has a non-finite position");
+
+  const std::uint32_t a0 = GetU32(good, springs_offset);
+  const std::uint32_t b0 = GetU32(good, springs_offset + 4);
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutU32(b, springs_offset + 4, a0); }),
+                  "spring 0 joins node " + std::to_string(a0) + " to itself");
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutU32(b, springs_offset, 1000000); }),
+                  "spring 0 joins node 1000000 to node");
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, springs_offset + 8, -1.0); }),
+                  "spring 0 has stiffness -1");
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, springs_offset + 32, 0.0); }),
+                  "dispersion weights");
+  // Spring 0's nodes moved onto each other: the builder's own check, wrapped into one line.
+  EXPECT_CONTAINS(edit([&](Bytes* b) {
+                    for (int d = 0; d < 3; ++d) {
+                      PutF64(b, kNodesOffset + 32 * b0 + 8 * d,
+                             GetF64(good, kNodesOffset + 32 * a0 + 8 * d));
+                    }
+                  }),
+                  "spring 0: spring joins two coincident nodes");
+  const double rest_length = GetF64(good, springs_offset + 16);
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, springs_offset + 16, rest_length * 1.001); }),
+                  "spring 0 has stored rest length");
+  // A relative difference below 1e-12 (another platform's rounding) is accepted.
+  {
+    Bytes bytes = good;
+    PutF64(&bytes, springs_offset + 16, std::nextafter(rest_length, 1.0));
+    Reseal(&bytes);
+    WriteBytes(Path("rounded.msm"), bytes);
+    EXPECT_NO_THROW(LoadModel(Path("rounded.msm")));
+  }
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutU32(b, corrections_offset + 44, springs); }),
+                  "correction element 0 refers to spring " + std::to_string(springs));
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, corrections_offset + 48, NAN); }),
+                  "correction element 0 has a non-finite coefficient");
+}
+
+// --- VTK export ------------------------------------------------------------------------------
+
+struct VtuSummary {
+  int pieces = 0;
+  long points = -1;
+  long cells = -1;
+  std::map<std::string, std::vector<double>> arrays;  // by Name; "Points" for the points
+};
+
+// A minimal reader: enough to check the structure and the values we wrote.
+VtuSummary ParseVtu(const std::string& path) {
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  VtuSummary summary;
+  const std::regex piece(R"re(<Piece NumberOfPoints="(\d+)" NumberOfCells="(\d+)">)re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), piece);
+       it != std::sregex_iterator(); ++it) {
+    ++summary.pieces;
+    summary.points = std::stol((*it)[1]);
+    summary.cells = std::stol((*it)[2]);
+  }
+  const std::regex array(R"re(<DataArray ([^>]*)>([^<]*)</DataArray>)re");
+  const std::regex name(R"re(Name="([^"]+)")re");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), array);
+       it != std::sregex_iterator(); ++it) {
+    const std::string attributes = (*it)[1];
+    std::smatch match;
+    const std::string key =
+        std::regex_search(attributes, match, name) ? std::string(match[1]) : "Points";
+    std::istringstream values((*it)[2]);
+    std::vector<double>& out = summary.arrays[key];
+    for (std::string token; values >> token;) out.push_back(std::strtod(token.c_str(), nullptr));
+  }
+  EXPECT_EQ(
+      text.rfind("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\"", 0),
+      0u);
+  EXPECT_EQ(text.substr(text.size() - 11), "</VTKFile>\n");
+  return summary;
+}
+
+TEST_F(ModelFileTest, VtuIsWellFormed) {
+  const Model model = CubicModel();
+  const int n = model.num_nodes();
+  const int s = model.num_springs();
+  State state = State::AtRest(model);
+  state.positions *= 1.01;  // about the origin: every spring stretched by 1 %
+  state.velocities.setConstant(0.5);
+  WriteVtu(model, state, Path("model.vtu"));
+
+  const VtuSummary vtu = ParseVtu(Path("model.vtu"));
+  EXPECT_EQ(vtu.pieces, 1);
+  EXPECT_EQ(vtu.points, n);
+  EXPECT_EQ(vtu.cells, s);
+  const std::map<std::string, std::size_t> expected_sizes = {
+      {"mass", n},       {"displacement", 3 * n}, {"velocity", 3 * n},
+      {"stiffness", s},  {"rest_length", s},      {"strain", s},
+      {"Points", 3 * n}, {"connectivity", 2 * s}, {"offsets", s},
+      {"types", s}};
+  ASSERT_EQ(vtu.arrays.size(), expected_sizes.size());
+  for (const auto& [key, size] : expected_sizes) {
+    ASSERT_EQ(vtu.arrays.count(key), 1u) << key;
+    EXPECT_EQ(vtu.arrays.at(key).size(), size) << key;
+  }
+  // 17 significant digits read back bit-identical.
+  for (int i = 0; i < n; ++i) {
+    EXPECT_TRUE(SameBits(vtu.arrays.at("mass")[i], model.masses()[i]));
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_TRUE(SameBits(vtu.arrays.at("Points")[3 * i + d], state.positions(d, i)));
+    }
+  }
+  for (int k = 0; k < s; ++k) {
+    EXPECT_NEAR(vtu.arrays.at("strain")[k], 0.01, 1e-12);
+    EXPECT_EQ(vtu.arrays.at("connectivity")[2 * k], model.spring_node_a()[k]);
+    EXPECT_EQ(vtu.arrays.at("connectivity")[2 * k + 1], model.spring_node_b()[k]);
+    EXPECT_EQ(vtu.arrays.at("offsets")[k], 2.0 * (k + 1));
+    EXPECT_EQ(vtu.arrays.at("types")[k], 3.0);
+  }
+  EXPECT_EQ(vtu.arrays.at("velocity")[0], 0.5);
+}
+
+TEST_F(ModelFileTest, VtuRejectsBadStates) {
+  const Model model = BaudetModel(0.1);
+  State state = State::AtRest(model);
+  state.positions(1, 3) = std::nan("");
+  try {
+    WriteVtu(model, state, Path("nan.vtu"));
+    ADD_FAILURE() << "wrote a NaN position";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_CONTAINS(std::string(e.what()), "node 3 has a non-finite position");
+  }
+  State velocity = State::AtRest(model);
+  velocity.velocities(0, 5) = INFINITY;
+  EXPECT_THROW(WriteVtu(model, velocity, Path("inf.vtu")), std::invalid_argument);
+  State short_state = State::AtRest(model);
+  short_state.positions.conservativeResize(3, model.num_nodes() - 1);
+  EXPECT_THROW(WriteVtu(model, short_state, Path("short.vtu")), std::invalid_argument);
+  try {
+    WriteVtu(model, State::AtRest(model), Path("no_such_dir/model.vtu"));
+    ADD_FAILURE() << "wrote into a missing directory";
+  } catch (const std::runtime_error& e) {
+    EXPECT_CONTAINS(std::string(e.what()), Path("no_such_dir/model.vtu"));
+  }
+}
+
+}  // namespace
+}  // namespace msm_sim::core
