@@ -25,9 +25,8 @@ std::string Describe(double value) {
   throw MeshImportError("mesh '" + path + "': " + problem);
 }
 
-}  // namespace
-
-ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions& options) {
+// Rejects a bad scale and a path that is not a non-empty regular file, before assimp sees it.
+void CheckInput(const std::string& path, const MeshImportOptions& options) {
   if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
     Fail(path, "scale must be finite and > 0, got " + Describe(options.scale));
   }
@@ -35,16 +34,18 @@ ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions
   if (stat(path.c_str(), &info) != 0) Fail(path, "no such file");
   if (!S_ISREG(info.st_mode)) Fail(path, "not a regular file");
   if (info.st_size == 0) Fail(path, "the file is empty");
+}
 
-  Assimp::Importer importer;
+// The scene with every face triangulated and every mesh in the root frame; the importer owns it.
+const aiScene& ReadScene(const std::string& path, Assimp::Importer* importer) {
   // Points and lines carry no surface; have assimp drop them instead of mixing them in.
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer->SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                               aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
                          aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-  const aiScene* scene = importer.ReadFile(path, flags);
+  const aiScene* scene = importer->ReadFile(path, flags);
   if (scene == nullptr) {
-    std::string reason = importer.GetErrorString();
+    std::string reason = importer->GetErrorString();
     if (reason.empty()) reason = "unknown reason";
     // Assimp's messages can span lines; keep the error to one.
     for (char& c : reason) {
@@ -52,33 +53,45 @@ ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions
     }
     Fail(path, "cannot be read as a mesh: " + reason);
   }
+  return *scene;
+}
 
-  ImportedMesh result;
+// Appends the scaled vertices and the triangles (renumbered after the vertices already there) of
+// one assimp mesh; returns whether it had any triangle.
+bool AppendMesh(const std::string& path, const aiMesh& mesh, double scale,
+                std::vector<Eigen::Vector3d>* vertices, std::vector<Eigen::Vector3i>* triangles) {
+  const int base = static_cast<int>(vertices->size());
+  bool used = false;
+  for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+    const aiVector3D& p = mesh.mVertices[v];
+    vertices->emplace_back(scale * Eigen::Vector3d(p.x, p.y, p.z));
+  }
+  for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+    const aiFace& face = mesh.mFaces[f];
+    if (face.mNumIndices != 3) continue;
+    Eigen::Vector3i tri;
+    bool valid = true;
+    for (int e = 0; e < 3; ++e) {
+      valid = valid && face.mIndices[e] < mesh.mNumVertices;
+      tri[e] = base + static_cast<int>(face.mIndices[e]);
+    }
+    if (!valid) Fail(path, "a face refers to a vertex that does not exist");
+    triangles->push_back(tri);
+    used = true;
+  }
+  return used;
+}
+
+// Every triangle mesh of the scene merged into one, scaled; *source_meshes receives how many
+// contributed triangles. Fails if there are no triangles or non-finite coordinates.
+TriangleMesh MergeMeshes(const std::string& path, const aiScene& scene, double scale,
+                         int* source_meshes) {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<Eigen::Vector3i> triangles;
-  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
-    const aiMesh* mesh = scene->mMeshes[m];
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* mesh = scene.mMeshes[m];
     if (mesh == nullptr || !(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) continue;
-    const int base = static_cast<int>(vertices.size());
-    bool used = false;
-    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-      const aiVector3D& p = mesh->mVertices[v];
-      vertices.emplace_back(options.scale * Eigen::Vector3d(p.x, p.y, p.z));
-    }
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) continue;
-      Eigen::Vector3i tri;
-      bool valid = true;
-      for (int e = 0; e < 3; ++e) {
-        valid = valid && face.mIndices[e] < mesh->mNumVertices;
-        tri[e] = base + static_cast<int>(face.mIndices[e]);
-      }
-      if (!valid) Fail(path, "a face refers to a vertex that does not exist");
-      triangles.push_back(tri);
-      used = true;
-    }
-    if (used) ++result.source_meshes;
+    if (AppendMesh(path, *mesh, scale, &vertices, &triangles)) ++*source_meshes;
   }
   if (triangles.empty())
     Fail(path, "the file contains no triangles (only points, lines or nothing)");
@@ -89,7 +102,13 @@ ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions
   raw.triangles.resize(3, static_cast<Eigen::Index>(triangles.size()));
   for (std::size_t t = 0; t < triangles.size(); ++t) raw.triangles.col(t) = triangles[t];
   if (!raw.vertices.allFinite()) Fail(path, "some vertex coordinates are not finite numbers");
+  return raw;
+}
 
+// Fails if the mesh's size is outside the options' range (a unit mistake); returns its
+// bounding-box diagonal (m).
+double CheckedDiagonal(const std::string& path, const TriangleMesh& raw,
+                       const MeshImportOptions& options) {
   Eigen::Vector3d min, max;
   BoundingBox(raw, &min, &max);
   const double extent = (max - min).maxCoeff();
@@ -99,7 +118,19 @@ ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions
                    Describe(options.max_extent) +
                    "] m; give the right scale (0.001 for a file in millimetres)");
   }
-  const double diagonal = (max - min).norm();
+  return (max - min).norm();
+}
+
+}  // namespace
+
+ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions& options) {
+  CheckInput(path, options);
+  Assimp::Importer importer;
+  const aiScene& scene = ReadScene(path, &importer);
+
+  ImportedMesh result;
+  const TriangleMesh raw = MergeMeshes(path, scene, options.scale, &result.source_meshes);
+  const double diagonal = CheckedDiagonal(path, raw, options);
   TriangleMesh welded = WeldVertices(raw, options.weld_tolerance * diagonal);
   result.mesh =
       RemoveDegenerateTriangles(welded, 1e-14 * diagonal * diagonal, &result.removed_degenerate);

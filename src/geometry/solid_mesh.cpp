@@ -30,19 +30,9 @@ namespace pmp = CGAL::Polygon_mesh_processing;
 
 Point ToPoint(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
 
-}  // namespace
-
-struct SolidMesh::Impl {
-  TriangleMesh oriented;
-  Surface surface;
-  Tree tree;
-  std::unique_ptr<SideOf> side_of;
-  double volume = 0.0;
-  Eigen::Vector3d min_corner;
-  Eigen::Vector3d max_corner;
-};
-
-SolidMesh::SolidMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
+// Throws std::invalid_argument, saying what to fix, unless the mesh is a finite surface whose
+// every edge is used an even number of times (so that it separates an inside from an outside).
+void CheckClosedAndFinite(const TriangleMesh& mesh) {
   if (mesh.num_triangles() == 0) throw std::invalid_argument("the mesh has no triangles");
   if (!mesh.vertices.allFinite()) {
     throw std::invalid_argument("the mesh has vertices with non-finite coordinates");
@@ -60,10 +50,13 @@ SolidMesh::SolidMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>())
         " edges shared by an odd number of triangles (3 or more), so its inside is not well "
         "defined; repair the mesh");
   }
+}
 
-  // CGAL's AABB tree wants a face graph; orient_polygon_soup makes one out of any soup,
-  // duplicating vertices at non-manifold edges. The inside test is ray parity, which only
-  // needs every edge used an even number of times (checked above), not a manifold.
+// Fills *surface with the mesh and *tree with the surface's faces, built for distance queries.
+// CGAL's AABB tree wants a face graph; orient_polygon_soup makes one out of any soup,
+// duplicating vertices at non-manifold edges. The inside test is ray parity, which only needs
+// every edge used an even number of times (CheckClosedAndFinite), not a manifold.
+void BuildTree(const TriangleMesh& mesh, Surface* surface, Tree* tree) {
   std::vector<Point> points;
   points.reserve(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) points.push_back(ToPoint(mesh.vertices.col(v)));
@@ -74,19 +67,18 @@ SolidMesh::SolidMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>())
                    static_cast<std::size_t>(mesh.triangles(2, t))};
   }
   pmp::orient_polygon_soup(points, polygons);
-  Impl& impl = *impl_;
-  pmp::polygon_soup_to_polygon_mesh(points, polygons, impl.surface);
-  impl.tree.insert(faces(impl.surface).first, faces(impl.surface).second, impl.surface);
-  impl.tree.build();
-  impl.tree.accelerate_distance_queries();
-  impl.side_of = std::make_unique<SideOf>(impl.tree);
+  pmp::polygon_soup_to_polygon_mesh(points, polygons, *surface);
+  tree->insert(faces(*surface).first, faces(*surface).second, *surface);
+  tree->build();
+  tree->accelerate_distance_queries();
+}
 
-  // Orient every triangle outwards by asking the inside test which side its normal points to:
-  // this works where a consistent orientation does not exist globally (pieces joined at
-  // non-manifold edges), and makes SignedVolume and CrossSectionArea exact.
-  impl.oriented = mesh;
-  BoundingBox(mesh, &impl.min_corner, &impl.max_corner);
-  const double extent = (impl.max_corner - impl.min_corner).maxCoeff();
+// Flips, in *oriented (a copy of mesh), every triangle of the mesh whose normal points inside,
+// asking the inside test which side it points to: this works where a consistent orientation
+// does not exist globally (pieces joined at non-manifold edges), and makes SignedVolume and
+// CrossSectionArea exact. `extent` is the largest edge of the mesh's bounding box.
+void OrientOutwards(const TriangleMesh& mesh, const SideOf& side_of, double extent,
+                    TriangleMesh* oriented) {
   for (int t = 0; t < mesh.num_triangles(); ++t) {
     const Eigen::Vector3d a = mesh.vertices.col(mesh.triangles(0, t));
     const Eigen::Vector3d b = mesh.vertices.col(mesh.triangles(1, t));
@@ -97,10 +89,34 @@ SolidMesh::SolidMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>())
     // Probe just off the centroid, closer than any other part of the surface can plausibly be.
     const double offset = 1e-6 * std::min(extent, std::sqrt(length));
     const Eigen::Vector3d probe = (a + b + c) / 3.0 + offset * normal / length;
-    if ((*impl.side_of)(ToPoint(probe)) == CGAL::ON_BOUNDED_SIDE) {
-      std::swap(impl.oriented.triangles(1, t), impl.oriented.triangles(2, t));
+    if (side_of(ToPoint(probe)) == CGAL::ON_BOUNDED_SIDE) {
+      std::swap(oriented->triangles(1, t), oriented->triangles(2, t));
     }
   }
+}
+
+}  // namespace
+
+struct SolidMesh::Impl {
+  TriangleMesh oriented;
+  Surface surface;
+  Tree tree;
+  std::unique_ptr<SideOf> side_of;
+  double volume = 0.0;
+  Eigen::Vector3d min_corner;
+  Eigen::Vector3d max_corner;
+};
+
+SolidMesh::SolidMesh(const TriangleMesh& mesh) : impl_(std::make_unique<Impl>()) {
+  CheckClosedAndFinite(mesh);
+  Impl& impl = *impl_;
+  BuildTree(mesh, &impl.surface, &impl.tree);
+  impl.side_of = std::make_unique<SideOf>(impl.tree);
+
+  impl.oriented = mesh;
+  BoundingBox(mesh, &impl.min_corner, &impl.max_corner);
+  const double extent = (impl.max_corner - impl.min_corner).maxCoeff();
+  OrientOutwards(mesh, *impl.side_of, extent, &impl.oriented);
   const double volume = SignedVolume(impl.oriented);
   if (!(volume > 1e-9 * extent * extent * extent)) {
     throw std::invalid_argument("the closed surface encloses no volume (flat or degenerate)");

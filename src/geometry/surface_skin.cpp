@@ -81,6 +81,57 @@ std::uint64_t CornerKey(const Eigen::Vector3i& c) {
          static_cast<std::uint64_t>(c.z() & 0x1FFFFF);
 }
 
+// Throws std::invalid_argument as SurfaceSkin::Embed documents, except for corners far from
+// the nodes (found later).
+void CheckEmbedInput(const Model& model, const TriangleMesh& surface,
+                     const SurfaceSkinOptions& options) {
+  if (model.num_nodes() < 4) throw std::invalid_argument("skinning needs a model of >= 4 nodes");
+  if (surface.num_triangles() == 0) throw std::invalid_argument("the skin mesh has no triangles");
+  if (!surface.vertices.allFinite()) {
+    throw std::invalid_argument("the skin mesh has non-finite vertex coordinates");
+  }
+  if (!std::isfinite(options.cell_size) || !(options.fit_radius > 0.0) ||
+      !std::isfinite(options.fit_radius)) {
+    throw std::invalid_argument("skin cell size and fit radius must be finite, fit radius > 0");
+  }
+}
+
+// The nodes within fit_radius * h of `position`, weighted, in the smallest of the growing balls
+// where they span space (or the largest ball if none does).
+std::vector<Neighbour> FitNeighbours(const SpatialHashGrid& grid, const Eigen::Vector3d& position,
+                                     double fit_radius, double h) {
+  std::vector<Neighbour> neighbours;
+  for (int step = 0; step < kRadiusSteps; ++step) {
+    const double radius = fit_radius * h * std::pow(kRadiusGrowth, step);
+    neighbours.clear();
+    grid.ForEachWithin(position, radius, [&](int node, const Eigen::Vector3d& p) {
+      const double s = (p - position).squaredNorm() / (radius * radius);
+      // Smooth compact weight: neighbours entering or leaving the ball do not jump.
+      neighbours.push_back({node, p - position, (1.0 - s) * (1.0 - s)});
+    });
+    if (SpansSpace(neighbours)) break;
+  }
+  return neighbours;
+}
+
+// Appends to *triplets row `corner` of the corner weights: the affine fit of the nodes around
+// the corner's `position`. Throws std::invalid_argument naming skin vertex `vertex` if fewer than
+// 4 nodes lie within max_radius of it.
+void AppendCornerWeights(const SpatialHashGrid& grid, const Eigen::Vector3d& position,
+                         const SurfaceSkinOptions& options, double h, double max_radius, int vertex,
+                         int corner, std::vector<Eigen::Triplet<double>>* triplets) {
+  const std::vector<Neighbour> neighbours = FitNeighbours(grid, position, options.fit_radius, h);
+  if (neighbours.size() < 4) {
+    throw std::invalid_argument(
+        "skin vertex " + std::to_string(vertex) + " is more than " + std::to_string(max_radius) +
+        " m from the model's nodes; is the mesh in the model's frame and scale?");
+  }
+  const std::vector<double> alpha = AffineFitWeights(neighbours);
+  for (std::size_t n = 0; n < neighbours.size(); ++n) {
+    triplets->emplace_back(corner, neighbours[n].node, alpha[n]);
+  }
+}
+
 }  // namespace
 
 std::array<double, 8> TrilinearWeights(const Eigen::Vector3d& u) {
@@ -94,15 +145,7 @@ std::array<double, 8> TrilinearWeights(const Eigen::Vector3d& u) {
 
 SurfaceSkin SurfaceSkin::Embed(const Model& model, const TriangleMesh& surface,
                                const SurfaceSkinOptions& options) {
-  if (model.num_nodes() < 4) throw std::invalid_argument("skinning needs a model of >= 4 nodes");
-  if (surface.num_triangles() == 0) throw std::invalid_argument("the skin mesh has no triangles");
-  if (!surface.vertices.allFinite()) {
-    throw std::invalid_argument("the skin mesh has non-finite vertex coordinates");
-  }
-  if (!std::isfinite(options.cell_size) || !(options.fit_radius > 0.0) ||
-      !std::isfinite(options.fit_radius)) {
-    throw std::invalid_argument("skin cell size and fit radius must be finite, fit radius > 0");
-  }
+  CheckEmbedInput(model, surface, options);
   const double h =
       options.cell_size > 0.0 ? options.cell_size : 0.5 * model.characteristic_length();
   const double max_radius = options.fit_radius * h * std::pow(kRadiusGrowth, kRadiusSteps - 1);
@@ -131,27 +174,8 @@ SurfaceSkin SurfaceSkin::Embed(const Model& model, const TriangleMesh& surface,
       skin.host_corners_[v][corner] = it->second;
       if (!inserted) continue;
       ++num_corners;
-      const Eigen::Vector3d position = origin + h * c.cast<double>();
-      std::vector<Neighbour> neighbours;
-      for (int step = 0; step < kRadiusSteps; ++step) {
-        const double radius = options.fit_radius * h * std::pow(kRadiusGrowth, step);
-        neighbours.clear();
-        grid.ForEachWithin(position, radius, [&](int node, const Eigen::Vector3d& p) {
-          const double s = (p - position).squaredNorm() / (radius * radius);
-          // Smooth compact weight: neighbours entering or leaving the ball do not jump.
-          neighbours.push_back({node, p - position, (1.0 - s) * (1.0 - s)});
-        });
-        if (SpansSpace(neighbours)) break;
-      }
-      if (neighbours.size() < 4) {
-        throw std::invalid_argument(
-            "skin vertex " + std::to_string(v) + " is more than " + std::to_string(max_radius) +
-            " m from the model's nodes; is the mesh in the model's frame and scale?");
-      }
-      const std::vector<double> alpha = AffineFitWeights(neighbours);
-      for (std::size_t n = 0; n < neighbours.size(); ++n) {
-        triplets.emplace_back(it->second, neighbours[n].node, alpha[n]);
-      }
+      AppendCornerWeights(grid, origin + h * c.cast<double>(), options, h, max_radius, v,
+                          it->second, &triplets);
     }
   }
   skin.corner_weights_.resize(num_corners, model.num_nodes());

@@ -57,25 +57,9 @@ void WriteColumns(std::ostream& out, const Eigen::Matrix3Xd& values) {
   }
 }
 
-}  // namespace
-
-void WriteVtu(const Model& model, const State& state, const std::string& path) {
-  CheckState(model, state);
+// Per node: mass, displacement from rest and velocity.
+void WritePointData(std::ostream& out, const Model& model, const State& state) {
   const int n = model.num_nodes();
-  const int s_count = model.num_springs();
-
-  errno = 0;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error(IoError(path, "cannot open for writing"));
-  // VTK parses "C" numbers; a global locale with a decimal comma must not leak into the file.
-  out.imbue(std::locale::classic());
-  out.precision(17);
-
-  out << "<?xml version=\"1.0\"?>\n"
-      << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
-      << "  <UnstructuredGrid>\n"
-      << "    <Piece NumberOfPoints=\"" << n << "\" NumberOfCells=\"" << s_count << "\">\n";
-
   out << "      <PointData Scalars=\"mass\" Vectors=\"displacement\">\n";
   BeginArray(out, "Float64", "mass", 1);
   for (int i = 0; i < n; ++i) out << "          " << model.masses()[i] << '\n';
@@ -87,7 +71,11 @@ void WriteVtu(const Model& model, const State& state, const std::string& path) {
   WriteColumns(out, state.velocities);
   EndArray(out);
   out << "      </PointData>\n";
+}
 
+// Per spring: stiffness, rest length and strain (current length / rest length - 1).
+void WriteCellData(std::ostream& out, const Model& model, const State& state) {
+  const int s_count = model.num_springs();
   out << "      <CellData Scalars=\"strain\">\n";
   BeginArray(out, "Float64", "stiffness", 1);
   for (int s = 0; s < s_count; ++s) out << "          " << model.spring_stiffness()[s] << '\n';
@@ -104,14 +92,12 @@ void WriteVtu(const Model& model, const State& state, const std::string& path) {
   }
   EndArray(out);
   out << "      </CellData>\n";
+}
 
-  out << "      <Points>\n";
-  BeginArray(out, "Float64", nullptr, 3);
-  WriteColumns(out, state.positions);
-  EndArray(out);
-  out << "      </Points>\n";
-
-  // Int64 throughout: offsets reach 2 S, which overflows Int32 for S > 2^30 springs.
+// One VTK_LINE cell per spring, from node a to node b. Int64 throughout: offsets reach 2 S,
+// which overflows Int32 for S > 2^30 springs.
+void WriteCells(std::ostream& out, const Model& model) {
+  const int s_count = model.num_springs();
   out << "      <Cells>\n";
   BeginArray(out, "Int64", "connectivity", 1);
   for (int s = 0; s < s_count; ++s) {
@@ -125,8 +111,35 @@ void WriteVtu(const Model& model, const State& state, const std::string& path) {
   BeginArray(out, "UInt8", "types", 1);
   for (int s = 0; s < s_count; ++s) out << "          " << kVtkLine << '\n';
   EndArray(out);
-  out << "      </Cells>\n"
-      << "    </Piece>\n"
+  out << "      </Cells>\n";
+}
+
+}  // namespace
+
+void WriteVtu(const Model& model, const State& state, const std::string& path) {
+  CheckState(model, state);
+
+  errno = 0;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) throw std::runtime_error(IoError(path, "cannot open for writing"));
+  // VTK parses "C" numbers; a global locale with a decimal comma must not leak into the file.
+  out.imbue(std::locale::classic());
+  out.precision(17);
+
+  out << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+      << "  <UnstructuredGrid>\n"
+      << "    <Piece NumberOfPoints=\"" << model.num_nodes() << "\" NumberOfCells=\""
+      << model.num_springs() << "\">\n";
+  WritePointData(out, model, state);
+  WriteCellData(out, model, state);
+  out << "      <Points>\n";
+  BeginArray(out, "Float64", nullptr, 3);
+  WriteColumns(out, state.positions);
+  EndArray(out);
+  out << "      </Points>\n";
+  WriteCells(out, model);
+  out << "    </Piece>\n"
       << "  </UnstructuredGrid>\n"
       << "</VTKFile>\n";
 

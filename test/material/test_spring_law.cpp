@@ -1,0 +1,110 @@
+// The spring laws (SPEC.md §4): names, tensions, stiffnesses and energies at lengths worked out
+// by hand.
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "msm_sim/material/spring_law.h"
+
+namespace msm_sim::core {
+namespace {
+
+constexpr SpringLaw kLinear = SpringLaw::kLinear;
+constexpr SpringLaw kCarrier = SpringLaw::kNonlinear;
+
+// A spring of k = 200 N/m and rest length 1 cm, stretched to 1.2 cm or compressed to 0.5 cm.
+constexpr double kK = 200.0;
+constexpr double kRest = 0.01;
+constexpr double kStretched = 0.012;
+constexpr double kCompressed = 0.005;
+
+TEST(SpringLaw, ParsesBothNames) {
+  SpringLaw law = SpringLaw::kNonlinear;
+  ASSERT_TRUE(ParseSpringLaw("linear", &law));
+  EXPECT_EQ(law, SpringLaw::kLinear);
+  ASSERT_TRUE(ParseSpringLaw("nonlinear", &law));
+  EXPECT_EQ(law, SpringLaw::kNonlinear);
+}
+
+TEST(SpringLaw, RejectsOtherNames) {
+  for (const std::string name :
+       {"", "Linear", "NONLINEAR", "non-linear", " linear", "linear ", "carrier", "hooke"}) {
+    SpringLaw law = SpringLaw::kLinear;
+    EXPECT_FALSE(ParseSpringLaw(name, &law)) << "'" << name << "'";
+  }
+}
+
+TEST(SpringLaw, LinearTensionIsHooke) {
+  // t = k (L - L0).
+  EXPECT_NEAR(SpringTension<kLinear>(kK, kRest, kStretched), 0.4, 1e-12);
+  EXPECT_NEAR(SpringTension<kLinear>(kK, kRest, kCompressed), -1.0, 1e-12);
+  EXPECT_EQ(SpringTension<kLinear>(kK, kRest, kRest), 0.0);
+  // Finite at L = 0: -k L0.
+  EXPECT_NEAR(SpringTension<kLinear>(kK, kRest, 0.0), -2.0, 1e-12);
+  EXPECT_EQ(SpringTangentStiffness<kLinear>(kK, kRest, kStretched), kK);
+  EXPECT_EQ(SpringTangentStiffness<kLinear>(kK, kRest, kCompressed), kK);
+}
+
+TEST(SpringLaw, CarrierTensionDivergesUnderCompression) {
+  // t = k L0 (L - L0) / L: 200 * 0.01 * 0.002 / 0.012 = 1/3 and 200 * 0.01 * -0.005 / 0.005 = -2.
+  EXPECT_NEAR(SpringTension<kCarrier>(kK, kRest, kStretched), 1.0 / 3.0, 1e-12);
+  EXPECT_NEAR(SpringTension<kCarrier>(kK, kRest, kCompressed), -2.0, 1e-12);
+  EXPECT_EQ(SpringTension<kCarrier>(kK, kRest, kRest), 0.0);
+  // Softer than Hooke when stretched, stiffer when compressed, unbounded as L -> 0.
+  EXPECT_NEAR(SpringTension<kCarrier>(kK, kRest, 1e-6 * kRest), -2.0 * (1e6 - 1.0), 1e-3);
+  // dt/dL = k L0^2 / L^2: 200 * 1e-4 / 1.44e-4 = 1250 / 9.
+  EXPECT_NEAR(SpringTangentStiffness<kCarrier>(kK, kRest, kStretched), 1250.0 / 9.0, 1e-9);
+  EXPECT_NEAR(SpringTangentStiffness<kCarrier>(kK, kRest, kCompressed), 4.0 * kK, 1e-9);
+}
+
+TEST(SpringLaw, BothLawsHaveTheSameSmallStrainStiffness) {
+  EXPECT_DOUBLE_EQ(SpringTangentStiffness<kCarrier>(kK, kRest, kRest), kK);
+  EXPECT_DOUBLE_EQ(SpringTangentStiffness<kLinear>(kK, kRest, kRest), kK);
+  for (const double strain : {1e-6, -1e-6}) {
+    const double length = kRest * (1.0 + strain);
+    const double linear = SpringTension<kLinear>(kK, kRest, length);
+    const double carrier = SpringTension<kCarrier>(kK, kRest, length);
+    // carrier / linear = L0 / L = 1 - strain + O(strain^2).
+    EXPECT_NEAR(carrier / linear, 1.0 - strain, 1e-11) << "strain " << strain;
+  }
+}
+
+TEST(SpringLaw, EnergiesAtChosenLengths) {
+  // W = k dL^2 / 2.
+  EXPECT_NEAR(SpringEnergy<kLinear>(kK, kRest, kStretched), 4e-4, 1e-15);
+  EXPECT_NEAR(SpringEnergy<kLinear>(kK, kRest, kCompressed), 2.5e-3, 1e-15);
+  // W = k L0^2 (x - ln(1 + x)), x = dL / L0: 0.02 (0.2 - ln 1.2) and 0.02 (-0.5 - ln 0.5).
+  EXPECT_NEAR(SpringEnergy<kCarrier>(kK, kRest, kStretched), 3.535688641209078e-4, 1e-15);
+  EXPECT_NEAR(SpringEnergy<kCarrier>(kK, kRest, kCompressed), 3.862943611198906e-3, 1e-15);
+  EXPECT_EQ(SpringEnergy<kLinear>(kK, kRest, kRest), 0.0);
+  EXPECT_EQ(SpringEnergy<kCarrier>(kK, kRest, kRest), 0.0);
+}
+
+// dW/dL = t and dt/dL = the tangent stiffness, by central differences over the range from
+// strong compression to strong stretch.
+template <SpringLaw Law>
+void ExpectDerivativesConsistent() {
+  for (const double length : {0.002, 0.005, 0.009, 0.0101, 0.012, 0.02, 0.05}) {
+    const double step = 1e-6 * length;
+    const double energy_slope = (SpringEnergy<Law>(kK, kRest, length + step) -
+                                 SpringEnergy<Law>(kK, kRest, length - step)) /
+                                (2.0 * step);
+    const double tension = SpringTension<Law>(kK, kRest, length);
+    EXPECT_NEAR(energy_slope, tension, 1e-6 * std::abs(tension) + 1e-9) << "L " << length;
+    const double tension_slope = (SpringTension<Law>(kK, kRest, length + step) -
+                                  SpringTension<Law>(kK, kRest, length - step)) /
+                                 (2.0 * step);
+    const double tangent = SpringTangentStiffness<Law>(kK, kRest, length);
+    EXPECT_NEAR(tension_slope, tangent, 1e-6 * tangent) << "L " << length;
+    // Convex with its minimum at rest: W >= 0.
+    EXPECT_GT(SpringEnergy<Law>(kK, kRest, length), 0.0) << "L " << length;
+  }
+}
+
+TEST(SpringLaw, LinearEnergyDerivativeIsTension) { ExpectDerivativesConsistent<kLinear>(); }
+
+TEST(SpringLaw, CarrierEnergyDerivativeIsTension) { ExpectDerivativesConsistent<kCarrier>(); }
+
+}  // namespace
+}  // namespace msm_sim::core
