@@ -27,92 +27,140 @@ void Validate(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
   }
 }
 
+// The integer cell coordinates [lo, hi] (inclusive) and the flat index of each in a dense
+// per-cell array, x fastest.
+struct CellRange {
+  CellRange(const Eigen::Vector3i& lo_in, const Eigen::Vector3i& hi_in)
+      : lo(lo_in), hi(hi_in), extent(hi_in - lo_in + Eigen::Vector3i::Ones()) {}
+
+  std::size_t num_cells() const { return static_cast<std::size_t>(extent.cast<double>().prod()); }
+  std::size_t Flat(const Eigen::Vector3i& c) const {
+    const Eigen::Vector3i r = c - lo;
+    return (static_cast<std::size_t>(r.z()) * extent.y() + r.y()) * extent.x() + r.x();
+  }
+  bool Contains(const Eigen::Vector3i& c) const {
+    return (c.array() >= lo.array()).all() && (c.array() <= hi.array()).all();
+  }
+  // Calls visit(c) for every cell, x fastest.
+  template <typename Visit>
+  void ForEachCell(Visit visit) const {
+    for (int k = lo.z(); k <= hi.z(); ++k) {
+      for (int j = lo.y(); j <= hi.y(); ++j) {
+        for (int i = lo.x(); i <= hi.x(); ++i) visit(Eigen::Vector3i(i, j, k));
+      }
+    }
+  }
+
+  Eigen::Vector3i lo, hi, extent;
+};
+
+Eigen::Matrix3d LatticeRotation(const MeshCubicLatticeOptions& options) {
+  return options.rotation_angle == 0.0
+             ? Eigen::Matrix3d::Identity()
+             : Eigen::AngleAxisd(options.rotation_angle, options.rotation_axis.normalized())
+                   .toRotationMatrix();
+}
+
+// As for boxes (CellFrame): with an even number of cells across an axis, put cell faces, not
+// a cell centre, on the middle, so that a lattice-aligned box of a whole number of cells is
+// tiled exactly. `local` is the mesh in the lattice frame.
+Eigen::Vector3d CentringOffset(const SolidMesh& local, double a) {
+  Eigen::Vector3d offset;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double across = (local.max_corner()[axis] - local.min_corner()[axis]) / a;
+    offset[axis] = std::lround(across) % 2 == 0 ? 0.5 : 0.0;
+  }
+  return offset;
+}
+
+// The fraction chi of every cell of `range` inside `local` (the mesh in the lattice frame): the
+// clipped volume with anti-aliasing, else 1 or 0 as the cell centre falls inside or not.
+std::vector<double> CellFractions(const SolidMesh& local, const LatticeFrame& frame,
+                                  const CellRange& range, bool antialias) {
+  const double a = frame.unit;
+  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * a);
+  std::vector<double> fraction(range.num_cells(), 0.0);
+  range.ForEachCell([&](const Eigen::Vector3i& c) {
+    const Eigen::Vector3d centre = a * (c.cast<double>() + frame.offset);
+    double& chi = fraction[range.Flat(c)];
+    if (antialias) {
+      chi = VolumeInsideBox(local, centre - half, centre + half) / (a * a * a);
+    } else {
+      chi = local.Contains(centre) ? 1.0 : 0.0;  // the centre decides
+    }
+  });
+  return fraction;
+}
+
+// Whether a cell of fraction chi becomes a node.
+bool Kept(double chi, double min_fraction) { return chi > 0.0 && chi >= min_fraction; }
+
+// Adds the sliver chi of dropped cell c to the kept cells of its 26-neighbourhood, in proportion
+// to their fractions: a first pass sums them, a second shares chi out. An isolated sliver has
+// nothing to give it to and is lost.
+void GiveSliverToNeighbours(const Eigen::Vector3i& c, double chi, const CellRange& range,
+                            const std::vector<double>& fraction, double min_fraction,
+                            std::vector<double>* absorbed) {
+  double total = 0.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int d = 0; d < 27; ++d) {
+      const Eigen::Vector3i n = c + Eigen::Vector3i(d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
+      if (d == 13 || !range.Contains(n) || !Kept(fraction[range.Flat(n)], min_fraction)) continue;
+      if (pass == 0) {
+        total += fraction[range.Flat(n)];
+      } else {
+        (*absorbed)[range.Flat(n)] += chi * fraction[range.Flat(n)] / total;
+      }
+    }
+    if (total <= 0.0) break;  // an isolated sliver: nothing to give it to
+  }
+}
+
+// A dropped sliver's volume goes to the kept cells around it (26-neighbourhood, in proportion
+// to their fractions), so the model keeps the body's mass: without this a sphere of radius 1
+// at a = 1/2 loses 0.4 to 3.6 % of it, depending on how the lattice falls. A border cell may end
+// up with chi > 1. Returns the volume fraction each cell absorbs.
+std::vector<double> AbsorbedSlivers(const CellRange& range, const std::vector<double>& fraction,
+                                    double min_fraction) {
+  std::vector<double> absorbed(fraction.size(), 0.0);
+  range.ForEachCell([&](const Eigen::Vector3i& c) {
+    const double chi = fraction[range.Flat(c)];
+    if (chi <= 0.0 || Kept(chi, min_fraction)) return;
+    GiveSliverToNeighbours(c, chi, range, fraction, min_fraction, &absorbed);
+  });
+  return absorbed;
+}
+
+// Appends every kept cell to cells->coords with its fraction plus what it absorbed. Throws
+// std::invalid_argument past the node budget.
+void CollectKeptCells(const CellRange& range, const std::vector<double>& fraction,
+                      const std::vector<double>& absorbed, const MeshCubicLatticeOptions& options,
+                      OccupiedCells* cells) {
+  range.ForEachCell([&](const Eigen::Vector3i& c) {
+    const double chi = fraction[range.Flat(c)];
+    if (!Kept(chi, options.min_fraction)) return;
+    CheckNodeBudget(static_cast<long long>(cells->coords.size()) + 1, options.max_nodes);
+    cells->coords.push_back(c);
+    cells->fractions.push_back(chi + absorbed[range.Flat(c)]);
+  });
+}
+
 OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
   const double a = options.spacing;
   OccupiedCells cells;
-  cells.frame.rotation =
-      options.rotation_angle == 0.0
-          ? Eigen::Matrix3d::Identity()
-          : Eigen::AngleAxisd(options.rotation_angle, options.rotation_axis.normalized())
-                .toRotationMatrix();
+  cells.frame.rotation = LatticeRotation(options);
   cells.frame.centre = 0.5 * (solid.min_corner() + solid.max_corner());
   cells.frame.unit = a;
   // Work in the lattice frame, where cells are axis-aligned boxes the AABB tree can test.
   const Eigen::Matrix3d to_lattice = cells.frame.rotation.transpose();
   const SolidMesh local = TransformedSolid(solid, to_lattice, -to_lattice * cells.frame.centre);
-  // As for boxes (CellFrame): with an even number of cells across an axis, put cell faces, not
-  // a cell centre, on the middle, so that a lattice-aligned box of a whole number of cells is
-  // tiled exactly.
-  for (int axis = 0; axis < 3; ++axis) {
-    const double across = (local.max_corner()[axis] - local.min_corner()[axis]) / a;
-    cells.frame.offset[axis] = std::lround(across) % 2 == 0 ? 0.5 : 0.0;
-  }
+  cells.frame.offset = CentringOffset(local, a);
   cells.lo = (local.min_corner() / a - cells.frame.offset).array().floor().cast<int>() - 1;
   cells.hi = (local.max_corner() / a - cells.frame.offset).array().ceil().cast<int>() + 1;
-  const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * a);
-  const Eigen::Vector3i extent = cells.hi - cells.lo + Eigen::Vector3i::Ones();
-  const auto flat = [&](const Eigen::Vector3i& c) {
-    const Eigen::Vector3i r = c - cells.lo;
-    return (static_cast<std::size_t>(r.z()) * extent.y() + r.y()) * extent.x() + r.x();
-  };
-  std::vector<double> fraction(static_cast<std::size_t>(extent.cast<double>().prod()), 0.0);
-  for (int k = cells.lo.z(); k <= cells.hi.z(); ++k) {
-    for (int j = cells.lo.y(); j <= cells.hi.y(); ++j) {
-      for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
-        const Eigen::Vector3i c(i, j, k);
-        const Eigen::Vector3d centre = a * (c.cast<double>() + cells.frame.offset);
-        double& chi = fraction[flat(c)];
-        if (options.antialias) {
-          chi = VolumeInsideBox(local, centre - half, centre + half) / (a * a * a);
-        } else {
-          chi = local.Contains(centre) ? 1.0 : 0.0;  // the centre decides
-        }
-      }
-    }
-  }
-  // A dropped sliver's volume goes to the kept cells around it (26-neighbourhood, in proportion
-  // to their fractions), so the model keeps the body's mass: without this a sphere of radius 1
-  // at a = 1/2 loses 0.4 to 3.6 % of it, depending on how the lattice falls. A border cell may end
-  // up with chi > 1.
-  std::vector<double> absorbed(fraction.size(), 0.0);
-  const auto kept = [&](double chi) { return chi > 0.0 && chi >= options.min_fraction; };
-  const auto inside_range = [&](const Eigen::Vector3i& c) {
-    return (c.array() >= cells.lo.array()).all() && (c.array() <= cells.hi.array()).all();
-  };
-  for (int k = cells.lo.z(); k <= cells.hi.z(); ++k) {
-    for (int j = cells.lo.y(); j <= cells.hi.y(); ++j) {
-      for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
-        const Eigen::Vector3i c(i, j, k);
-        const double chi = fraction[flat(c)];
-        if (chi <= 0.0 || kept(chi)) continue;
-        double total = 0.0;
-        for (int pass = 0; pass < 2; ++pass) {
-          for (int d = 0; d < 27; ++d) {
-            const Eigen::Vector3i n = c + Eigen::Vector3i(d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1);
-            if (d == 13 || !inside_range(n) || !kept(fraction[flat(n)])) continue;
-            if (pass == 0) {
-              total += fraction[flat(n)];
-            } else {
-              absorbed[flat(n)] += chi * fraction[flat(n)] / total;
-            }
-          }
-          if (total <= 0.0) break;  // an isolated sliver: nothing to give it to
-        }
-      }
-    }
-  }
-  for (int k = cells.lo.z(); k <= cells.hi.z(); ++k) {
-    for (int j = cells.lo.y(); j <= cells.hi.y(); ++j) {
-      for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
-        const Eigen::Vector3i c(i, j, k);
-        const double chi = fraction[flat(c)];
-        if (!kept(chi)) continue;
-        CheckNodeBudget(static_cast<long long>(cells.coords.size()) + 1, options.max_nodes);
-        cells.coords.push_back(c);
-        cells.fractions.push_back(chi + absorbed[flat(c)]);
-      }
-    }
-  }
+  const CellRange range(cells.lo, cells.hi);
+  const std::vector<double> fraction = CellFractions(local, cells.frame, range, options.antialias);
+  const std::vector<double> absorbed = AbsorbedSlivers(range, fraction, options.min_fraction);
+  CollectKeptCells(range, fraction, absorbed, options, &cells);
   if (cells.coords.empty()) {
     throw std::invalid_argument("no lattice cell of spacing " + std::to_string(a) +
                                 " m is inside the mesh; use a smaller spacing");

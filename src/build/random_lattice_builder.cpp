@@ -1,5 +1,6 @@
 #include "msm_sim/build/random_lattice_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -68,9 +69,8 @@ struct Region {
   std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)> spring_allowed;
 };
 
-Model BuildInRegion(const Material& material, const RandomLatticeOptions& options,
-                    const Region& region) {
-  const double volume = region.volume;
+// round(V / l^3) nodes, at least one. Throws std::invalid_argument past options.max_nodes.
+int TargetNodeCount(double volume, const RandomLatticeOptions& options) {
   const double l = options.spacing;
   const double requested = std::round(volume / (l * l * l));
   if (requested > options.max_nodes) {
@@ -78,11 +78,14 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
                                 " nodes, more than " + std::to_string(options.max_nodes) +
                                 "; use a larger spacing");
   }
-  const int target = std::max(1, static_cast<int>(requested));
-  const double min_length = options.min_distance * l;
-  const double max_length = options.max_distance * l;
+  return std::max(1, static_cast<int>(requested));
+}
 
-  // Random sequential addition with a spatial hash for the rejection test.
+// Random sequential addition of `target` points at least minL apart inside the region, with a
+// spatial hash for the rejection test. Throws std::runtime_error if the draws run out first.
+std::vector<Eigen::Vector3d> PlaceNodes(const RandomLatticeOptions& options, const Region& region,
+                                        int target) {
+  const double min_length = options.min_distance * options.spacing;
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   SpatialHashGrid placed_grid(min_length);
@@ -104,6 +107,76 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
                              " nodes at min distance " + std::to_string(options.min_distance) +
                              " l; lower the min distance");
   }
+  return points;
+}
+
+// Two nodes i < j that get a spring, and their distance.
+struct NodePair {
+  int i, j;
+  double length;
+};
+
+// Every pair of points closer than max_length whose spring the region allows, in order of i.
+// Throws std::invalid_argument if there is none.
+std::vector<NodePair> SpringPairs(const std::vector<Eigen::Vector3d>& points, const Region& region,
+                                  double max_length) {
+  const int num_points = static_cast<int>(points.size());
+  std::vector<NodePair> pairs;
+  SpatialHashGrid connect_grid(max_length);
+  for (int i = 0; i < num_points; ++i) connect_grid.Insert(i, points[i]);
+  for (int i = 0; i < num_points; ++i) {
+    connect_grid.ForEachWithin(points[i], max_length, [&](int j, const Eigen::Vector3d& q) {
+      if (j > i && region.spring_allowed(points[i], q)) {
+        pairs.push_back(NodePair{i, j, (q - points[i]).norm()});
+      }
+    });
+  }
+  if (pairs.empty()) {
+    throw std::invalid_argument("no two nodes are closer than max distance; raise --max-dist");
+  }
+  return pairs;
+}
+
+// The stiffness scale c of the calibration (SPEC.md §2-3): sum k_i L_i^2 = 15 V mu. With
+// k_i = c / L_i^2 every spring contributes c, with uniform k_i = c every spring contributes
+// c L_i^2.
+double StiffnessScale(const Material& material, double volume, const std::vector<NodePair>& pairs,
+                      bool inverse_square) {
+  double sum_shape = 0.0;
+  for (const NodePair& pair : pairs) {
+    sum_shape += inverse_square ? 1.0 : pair.length * pair.length;
+  }
+  return DirectSpringSumKL2(material, volume) / sum_shape;
+}
+
+// Adds the calibrated spring of every pair and, if isotropise, the dispersion weights that make
+// each node's star isotropic (SetIsotropicDispersionWeights).
+void AddCalibratedSprings(const Material& material, double volume,
+                          const RandomLatticeOptions& options, bool isotropise,
+                          const std::vector<Eigen::Vector3d>& points,
+                          const std::vector<NodePair>& pairs, ModelBuilder* builder) {
+  const bool inverse_square = options.stiffness_law == RandomStiffnessLaw::kInverseSquare;
+  const double c = StiffnessScale(material, volume, pairs, inverse_square);
+  std::vector<std::vector<StarSpring>> stars(isotropise ? points.size() : 0);
+  for (const NodePair& pair : pairs) {
+    const double k = inverse_square ? c / (pair.length * pair.length) : c;
+    const SpringIndex s = builder->AddSpring(pair.i, pair.j, k);
+    if (!isotropise) continue;
+    const Eigen::Vector3d u = (points[pair.j] - points[pair.i]) / pair.length;
+    const double k_l2 = k * pair.length * pair.length;
+    stars[pair.i].push_back({s, u, k_l2});
+    stars[pair.j].push_back({s, -u, k_l2});
+  }
+  for (std::size_t i = 0; i < stars.size(); ++i) {
+    SetIsotropicDispersionWeights(static_cast<NodeIndex>(i), stars[i], builder);
+  }
+}
+
+Model BuildInRegion(const Material& material, const RandomLatticeOptions& options,
+                    const Region& region) {
+  const double volume = region.volume;
+  const int target = TargetNodeCount(volume, options);
+  const std::vector<Eigen::Vector3d> points = PlaceNodes(options, region, target);
 
   const double node_mass = material.density() * volume / target;
   const double q = DispersionFraction(material.poisson_ratio());
@@ -112,44 +185,10 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
   builder.SetDispersionFraction(q);
   for (const Eigen::Vector3d& p : points) builder.AddNode(p, node_mass);
 
-  struct Pair {
-    int i, j;
-    double length;
-  };
-  std::vector<Pair> pairs;
-  SpatialHashGrid connect_grid(max_length);
-  for (int i = 0; i < target; ++i) connect_grid.Insert(i, points[i]);
-  for (int i = 0; i < target; ++i) {
-    connect_grid.ForEachWithin(points[i], max_length, [&](int j, const Eigen::Vector3d& q) {
-      if (j > i && region.spring_allowed(points[i], q)) {
-        pairs.push_back(Pair{i, j, (q - points[i]).norm()});
-      }
-    });
-  }
-  if (pairs.empty()) {
-    throw std::invalid_argument("no two nodes are closer than max distance; raise --max-dist");
-  }
-
-  // Calibration (SPEC.md §2-3): sum k_i L_i^2 = 15 V mu. With k_i = c / L_i^2 every spring
-  // contributes c, with uniform k_i = c every spring contributes c L_i^2.
-  const bool inverse_square = options.stiffness_law == RandomStiffnessLaw::kInverseSquare;
-  double sum_shape = 0.0;
-  for (const Pair& pair : pairs) sum_shape += inverse_square ? 1.0 : pair.length * pair.length;
-  const double c = DirectSpringSumKL2(material, volume) / sum_shape;
+  const std::vector<NodePair> pairs =
+      SpringPairs(points, region, options.max_distance * options.spacing);
   const bool isotropise = options.isotropic_dispersion && q > 0.0;
-  std::vector<std::vector<StarSpring>> stars(isotropise ? target : 0);
-  for (const Pair& pair : pairs) {
-    const double k = inverse_square ? c / (pair.length * pair.length) : c;
-    const SpringIndex s = builder.AddSpring(pair.i, pair.j, k);
-    if (!isotropise) continue;
-    const Eigen::Vector3d u = (points[pair.j] - points[pair.i]) / pair.length;
-    const double k_l2 = k * pair.length * pair.length;
-    stars[pair.i].push_back({s, u, k_l2});
-    stars[pair.j].push_back({s, -u, k_l2});
-  }
-  for (std::size_t i = 0; i < stars.size(); ++i) {
-    SetIsotropicDispersionWeights(static_cast<NodeIndex>(i), stars[i], &builder);
-  }
+  AddCalibratedSprings(material, volume, options, isotropise, points, pairs, &builder);
   return builder.Build(volume, std::cbrt(volume / target));
 }
 

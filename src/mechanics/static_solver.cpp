@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -151,6 +152,78 @@ Eigen::VectorXd SolveLinear(const FreeStiffnessOperator& op, const Eigen::Vector
   return step;
 }
 
+// The Jacobi preconditioner of the shifted free stiffness. A tiny shift keeps rigid or floppy
+// modes the constraints leave free from stalling the Krylov solver; the residual is evaluated
+// exactly, so it changes the path, not the answer.
+struct ShiftedJacobi {
+  double shift;
+  Eigen::VectorXd inverse_diagonal;
+};
+
+// Precondition: evaluator was linearised at the current positions.
+ShiftedJacobi ShiftedJacobiOf(const ForceEvaluator& evaluator, const std::vector<int>& free_dofs) {
+  const int num_free = static_cast<int>(free_dofs.size());
+  const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
+  Eigen::VectorXd free_diagonal(num_free);
+  for (int i = 0; i < num_free; ++i) free_diagonal[i] = diagonal.data()[free_dofs[i]];
+  const double mean_diagonal = free_diagonal.cwiseAbs().mean();
+  ShiftedJacobi jacobi{1e-10 * mean_diagonal, Eigen::VectorXd(num_free)};
+  for (int i = 0; i < num_free; ++i) {
+    const double d = free_diagonal[i] + jacobi.shift;
+    jacobi.inverse_diagonal[i] = d > 1e-12 * mean_diagonal ? 1.0 / d : 1.0 / mean_diagonal;
+  }
+  return jacobi;
+}
+
+// The Newton step: solves K dx = residual on the free DOFs at the current linearisation, with
+// conjugate gradient when K is symmetric and BiCGSTAB when it is not. Adds the Krylov iterations
+// to *linear_iterations.
+Eigen::VectorXd NewtonStep(const ForceEvaluator& evaluator, const std::vector<int>& free_dofs,
+                           const Eigen::VectorXd& residual, const StaticSolverOptions& options,
+                           int* linear_iterations) {
+  const ShiftedJacobi jacobi = ShiftedJacobiOf(evaluator, free_dofs);
+  const FreeStiffnessOperator op(evaluator, free_dofs, jacobi.shift);
+  if (evaluator.stiffness_is_symmetric()) {
+    return SolveLinear<Eigen::ConjugateGradient<FreeStiffnessOperator, Eigen::Lower | Eigen::Upper,
+                                                JacobiPreconditioner>>(
+        op, jacobi.inverse_diagonal, residual, options, linear_iterations);
+  }
+  return SolveLinear<Eigen::BiCGSTAB<FreeStiffnessOperator, JacobiPreconditioner>>(
+      op, jacobi.inverse_diagonal, residual, options, linear_iterations);
+}
+
+// Backtracking on the residual norm keeps Newton safe far from equilibrium: tries the step and
+// up to 11 halvings of it, and takes the first that gives a finite residual of smaller norm.
+// Returns false, leaving *positions and *residual as they were, if none does.
+bool TakeBacktrackingStep(ForceEvaluator* evaluator, const Eigen::Matrix3Xd& external_forces,
+                          const std::vector<int>& free_dofs, const Eigen::VectorXd& step,
+                          Eigen::Matrix3Xd* positions, Eigen::VectorXd* residual) {
+  const int num_free = static_cast<int>(free_dofs.size());
+  const double old_norm = residual->norm();
+  double scale = 1.0;
+  Eigen::Matrix3Xd trial;
+  Eigen::VectorXd trial_residual;
+  bool accepted = false;
+  for (int halving = 0; halving < 12 && !accepted; ++halving, scale *= 0.5) {
+    trial = *positions;
+    for (int i = 0; i < num_free; ++i) trial.data()[free_dofs[i]] += scale * step[i];
+    trial_residual = FreeResidual(evaluator, trial, external_forces, free_dofs);
+    accepted = trial_residual.allFinite() && trial_residual.norm() < old_norm;
+  }
+  if (!accepted) return false;
+  *positions = trial;
+  *residual = trial_residual;
+  return true;
+}
+
+std::string SummaryOf(const StaticSolverReport& report) {
+  std::ostringstream message;
+  message << (report.converged ? "converged" : "did not converge") << " after "
+          << report.newton_iterations << " Newton iterations (" << report.linear_iterations
+          << " Krylov iterations), max residual force " << report.max_residual_force << " N";
+  return message.str();
+}
+
 }  // namespace
 
 StaticSolverReport SolveStaticEquilibrium(const Model& model, const DofConstraints& constraints,
@@ -167,59 +240,21 @@ StaticSolverReport SolveStaticEquilibrium(const Model& model, const DofConstrain
     return report;
   }
 
-  const int num_free = static_cast<int>(free_dofs.size());
   for (int iteration = 0; iteration < options.max_newton_iterations; ++iteration) {
     if (report.max_residual_force <= options.force_tolerance) break;
     ++report.newton_iterations;
     evaluator.Linearize(*positions);
-    const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
-    Eigen::VectorXd free_diagonal(num_free);
-    for (int i = 0; i < num_free; ++i) free_diagonal[i] = diagonal.data()[free_dofs[i]];
-    // A tiny shift keeps rigid or floppy modes the constraints leave free from stalling the
-    // Krylov solver; the residual is evaluated exactly, so it changes the path, not the answer.
-    const double mean_diagonal = free_diagonal.cwiseAbs().mean();
-    const double shift = 1e-10 * mean_diagonal;
-    Eigen::VectorXd inverse_diagonal(num_free);
-    for (int i = 0; i < num_free; ++i) {
-      const double d = free_diagonal[i] + shift;
-      inverse_diagonal[i] = d > 1e-12 * mean_diagonal ? 1.0 / d : 1.0 / mean_diagonal;
-    }
-    const FreeStiffnessOperator op(evaluator, free_dofs, shift);
     const Eigen::VectorXd step =
-        evaluator.stiffness_is_symmetric()
-            ? SolveLinear<Eigen::ConjugateGradient<
-                  FreeStiffnessOperator, Eigen::Lower | Eigen::Upper, JacobiPreconditioner>>(
-                  op, inverse_diagonal, residual, options, &report.linear_iterations)
-            : SolveLinear<Eigen::BiCGSTAB<FreeStiffnessOperator, JacobiPreconditioner>>(
-                  op, inverse_diagonal, residual, options, &report.linear_iterations);
-
-    // Backtracking on the residual norm keeps Newton safe far from equilibrium.
-    const double old_norm = residual.norm();
-    double scale = 1.0;
-    Eigen::Matrix3Xd trial;
-    Eigen::VectorXd trial_residual;
-    bool accepted = false;
-    for (int halving = 0; halving < 12 && !accepted; ++halving, scale *= 0.5) {
-      trial = *positions;
-      for (int i = 0; i < num_free; ++i) trial.data()[free_dofs[i]] += scale * step[i];
-      trial_residual = FreeResidual(&evaluator, trial, external_forces, free_dofs);
-      accepted = trial_residual.allFinite() && trial_residual.norm() < old_norm;
-    }
-    if (!accepted) {
+        NewtonStep(evaluator, free_dofs, residual, options, &report.linear_iterations);
+    if (!TakeBacktrackingStep(&evaluator, external_forces, free_dofs, step, positions, &residual)) {
       report.message = "no Newton step reduces the residual force (max " +
                        std::to_string(report.max_residual_force) + " N)";
       return report;
     }
-    *positions = trial;
-    residual = trial_residual;
     report.max_residual_force = MaxAbs(residual);
   }
   report.converged = report.max_residual_force <= options.force_tolerance;
-  std::ostringstream message;
-  message << (report.converged ? "converged" : "did not converge") << " after "
-          << report.newton_iterations << " Newton iterations (" << report.linear_iterations
-          << " Krylov iterations), max residual force " << report.max_residual_force << " N";
-  report.message = message.str();
+  report.message = SummaryOf(report);
   return report;
 }
 
