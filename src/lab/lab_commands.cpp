@@ -9,17 +9,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "msm_sim/build/baudet_lattice_builder.h"
+#include "lab_model.h"
+#include "lab_report.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/experiments/cantilever_experiment.h"
 #include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/experiments/slide_experiment.h"
-#include "msm_sim/geometry/mesh_import.h"
 #include "msm_sim/geometry/vtk_export.h"
 #include "msm_sim/material/extended_msm.h"
-#include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model_file.h"
 #include "msm_sim/model/model_statistics.h"
 #include "msm_sim/model/state.h"
@@ -27,49 +24,6 @@
 
 namespace msm_sim::lab {
 namespace {
-
-using Json = nlohmann::ordered_json;
-
-Json ModelJson(const core::ModelStatistics& stats) {
-  return Json{{"nodes", stats.nodes},
-              {"springs", stats.springs},
-              {"mean_springs_per_node", stats.mean_springs_per_node},
-              {"mean_spring_length", stats.mean_spring_length},
-              {"spring_length_stddev", stats.spring_length_stddev},
-              {"total_mass", stats.total_mass}};
-}
-
-Json SolverJson(const core::StaticSolverReport& report) {
-  return Json{{"converged", report.converged},
-              {"newton_iterations", report.newton_iterations},
-              {"cg_iterations", report.linear_iterations},
-              {"max_residual_force", report.max_residual_force}};
-}
-
-void PrintModelTable(const ModelArguments& arguments, const core::ModelStatistics& stats,
-                     std::ostream& out) {
-  out << "model            " << arguments.model
-      << (arguments.model != "cubic"           ? ""
-          : arguments.construction == "corner" ? " (element-corner)"
-                                               : " (node-centred)")
-      << (arguments.poisson != 0.25 && arguments.model != "baudet" ? ", extended MSM" : "") << ", "
-      << arguments.spring << " springs\n"
-      << "nodes            " << stats.nodes << "\n"
-      << "springs          " << stats.springs << "\n"
-      << "<S>              " << stats.mean_springs_per_node << "\n"
-      << "<L>, dL          " << stats.mean_spring_length << " m, " << stats.spring_length_stddev
-      << " m\n"
-      << "total mass       " << stats.total_mass << " kg\n";
-}
-
-double Seconds(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-int ReportSolverFailure(const core::StaticSolverReport& report, std::ostream& err) {
-  err << "msm_lab: error: static equilibrium " << report.message << "\n";
-  return 1;
-}
 
 // Static experiments solve for an exact equilibrium, where both ways of staging the dispersion
 // give the same forces; one-pass is a dynamics option (it lags one time step), so say so rather
@@ -364,103 +318,6 @@ int RunSlide(const LabArguments& arguments, std::ostream& out) {
 }
 
 }  // namespace
-
-LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin) {
-  LabBody body;
-  if (arguments.mesh.empty()) {
-    body.max = arguments.size;
-    body.volume = arguments.size.prod();
-    return body;
-  }
-  core::MeshImportOptions options;
-  options.scale = arguments.scale;
-  core::SolidMesh solid = core::ImportSolidMesh(arguments.mesh, options);
-  if (move_to_origin) {
-    solid = core::TransformedSolid(solid, Eigen::Matrix3d::Identity(), -solid.min_corner());
-  }
-  body.min = solid.min_corner();
-  body.max = solid.max_corner();
-  body.volume = solid.volume();
-  body.solid.emplace(std::move(solid));
-  return body;
-}
-
-core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body) {
-  const core::Material material =
-      core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density);
-  core::SpringLaw law = core::SpringLaw::kLinear;
-  if (!core::ParseSpringLaw(arguments.spring, &law)) {
-    throw std::invalid_argument("unknown spring law '" + arguments.spring +
-                                "' (expected linear or nonlinear)");
-  }
-  if (arguments.model != "cubic" && arguments.model != "random" && arguments.model != "baudet") {
-    throw std::invalid_argument("unknown model '" + arguments.model +
-                                "' (expected cubic, random or baudet)");
-  }
-  // A target node count fixes the spacing: N = V / a^3.
-  const double spacing = arguments.target_nodes > 0
-                             ? std::cbrt(body.volume / arguments.target_nodes)
-                             : arguments.spacing;
-  std::optional<Eigen::Vector3d> axis;
-  double angle = 0.0;
-  if (arguments.rotate) {
-    axis = arguments.rotate->head<3>();
-    angle = (*arguments.rotate)[3] * M_PI / 180.0;
-  }
-  if (body.solid) {
-    if (arguments.model == "baudet" || arguments.construction == "corner") {
-      throw std::invalid_argument(
-          "--mesh builds node-centred cubic or random lattices (Baudet bricks and element-corner "
-          "lattices fill boxes only)");
-    }
-    if (arguments.model == "cubic") {
-      core::MeshCubicLatticeOptions options;
-      options.spacing = spacing;
-      options.antialias = arguments.antialias;
-      options.spring_law = law;
-      if (axis) {
-        options.rotation_axis = *axis;
-        options.rotation_angle = angle;
-      }
-      return core::BuildCubicLatticeInSolid(material, *body.solid, options);
-    }
-  } else if (arguments.model == "cubic") {
-    core::CubicLatticeOptions options;
-    options.size = arguments.size;
-    options.spacing = spacing;
-    options.construction = arguments.construction == "corner"
-                               ? core::CubicConstruction::kElementCorner
-                               : core::CubicConstruction::kNodeCentred;
-    options.spring_law = law;
-    if (axis) {
-      options.rotation_axis = *axis;
-      options.rotation_angle = angle;
-    }
-    return core::BuildCubicLattice(material, options);
-  } else if (arguments.model == "baudet") {
-    core::BaudetLatticeOptions options;
-    options.size = arguments.size;
-    options.spacing = spacing;
-    options.spring_law = law;
-    if (axis) {
-      options.rotation_axis = *axis;
-      options.rotation_angle = angle;
-    }
-    return core::BuildBaudetLattice(material, options);
-  }
-  core::RandomLatticeOptions options;
-  options.size = arguments.size;
-  options.spacing = spacing;
-  options.seed = arguments.seed;
-  options.min_distance = arguments.min_dist;
-  options.max_distance = arguments.max_dist;
-  options.spring_law = law;
-  options.stiffness_law = arguments.stiffness == "uniform"
-                              ? core::RandomStiffnessLaw::kUniform
-                              : core::RandomStiffnessLaw::kInverseSquare;
-  return body.solid ? core::BuildRandomLatticeInSolid(material, *body.solid, options)
-                    : core::BuildRandomLattice(material, options);
-}
 
 int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   switch (arguments.command) {

@@ -1,13 +1,11 @@
 #include "object_builder.h"
 
-#include <cmath>
 #include <stdexcept>
+#include <utility>
 
-#include "msm_sim/build/baudet_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/build/body_recipe.h"
+#include "msm_sim/build/body_shape.h"
 #include "msm_sim/geometry/mesh_import.h"
-#include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/model/model_transform.h"
 #include "msm_sim/model/node_selection.h"
@@ -15,76 +13,58 @@
 namespace msm_sim::ros_interface {
 namespace {
 
-// The object's solid in its own frame.
-core::SolidMesh Solid(const ShapeConfig& shape) {
-  if (shape.type == "box") return core::SolidMesh(core::MakeBoxMesh(shape.size));
-  if (shape.type == "sphere") return core::SolidMesh(core::MakeIcosphereMesh(shape.radius, 4));
-  if (shape.type == "cylinder") {
-    return core::SolidMesh(core::MakeCylinderMesh(shape.radius, shape.length, 64));
+// The recipe of the object's model in its own frame. Cubic and random lattices fill the shape's
+// solid; Baudet's bricks fill the box [0, size] (the shape is a box), centred like the solid, and
+// a target node count divides the solid's volume whichever lattice fills it. Random lattices take
+// the recipe's minL 0.8, maxL 1.9 and inverse-square stiffness.
+core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& material,
+                              std::shared_ptr<const core::SolidMesh> solid) {
+  core::BodyRecipe recipe(material);
+  recipe.lattice = config.model;
+  if (config.model == core::LatticeKind::kBaudet) {
+    recipe.box_size = config.shape.size;
+    recipe.centre_box = true;
+    recipe.target_volume = solid->volume();
+  } else {
+    recipe.solid = std::move(solid);
   }
-  core::MeshImportOptions options;
-  options.scale = shape.scale;
-  return core::ImportSolidMesh(shape.mesh_path, options);
+  recipe.spacing = config.spacing;
+  recipe.target_nodes = config.target_nodes;
+  recipe.spring_law = config.spring;
+  recipe.antialias = config.antialias;
+  recipe.seed = config.seed;
+  return recipe;
 }
 
-core::SpringLaw Law(const std::string& name) {
-  core::SpringLaw law = core::SpringLaw::kLinear;
-  core::ParseSpringLaw(name, &law);
-  return law;
-}
-
-core::Model BuildInObjectFrame(const ObjectConfig& config, const core::SolidMesh& solid,
-                               const core::Material& material) {
-  const double spacing =
-      config.target_nodes > 0 ? std::cbrt(solid.volume() / config.target_nodes) : config.spacing;
-  if (config.model == "cubic") {
-    core::MeshCubicLatticeOptions options;
-    options.spacing = spacing;
-    options.antialias = config.antialias;
-    options.spring_law = Law(config.spring);
-    return core::BuildCubicLatticeInSolid(material, solid, options);
-  }
-  if (config.model == "random") {
-    core::RandomLatticeOptions options;
-    options.spacing = spacing;
-    options.max_distance = 1.9;
-    options.seed = config.seed;
-    options.spring_law = Law(config.spring);
-    return core::BuildRandomLatticeInSolid(material, solid, options);
-  }
-  // Baudet's bricks fill the box [0, size]; centre it like the other shapes.
-  core::BaudetLatticeOptions options;
-  options.size = config.shape.size;
-  options.spacing = spacing;
-  options.spring_law = Law(config.spring);
-  Eigen::Isometry3d centre = Eigen::Isometry3d::Identity();
-  centre.translation() = -0.5 * config.shape.size;
-  return core::TransformedModel(core::BuildBaudetLattice(material, options), centre);
+// The object's model in the world frame.
+std::shared_ptr<const core::Model> PlacedModel(const ObjectConfig& config,
+                                               const core::Material& material,
+                                               std::shared_ptr<const core::SolidMesh> solid) {
+  return std::make_shared<const core::Model>(core::TransformedModel(
+      core::BuildModel(ObjectRecipe(config, material, std::move(solid))), config.pose));
 }
 
 }  // namespace
 
 std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
                                                     const core::Material& material) {
-  const core::SolidMesh solid = Solid(config.shape);
-  return std::make_shared<const core::Model>(
-      core::TransformedModel(BuildInObjectFrame(config, solid, material), config.pose));
+  return PlacedModel(config, material,
+                     std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape)));
 }
 
 BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {
   try {
     const core::Material material =
         core::Material::FromYoungsPoisson(config.youngs, config.poisson, config.density);
-    const core::SolidMesh solid = Solid(config.shape);
+    const auto solid = std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape));
     BuiltObject object;
-    object.model = std::make_shared<const core::Model>(
-        core::TransformedModel(BuildInObjectFrame(config, solid, material), config.pose));
+    object.model = PlacedModel(config, material, solid);
     if (!config.visual_mesh_path.empty()) {
       core::MeshImportOptions options;
       options.scale = config.visual_scale;
       object.surface = core::ImportTriangleMesh(config.visual_mesh_path, options).mesh;
     } else {
-      object.surface = solid.surface();
+      object.surface = solid->surface();
     }
     object.surface.vertices = config.pose * object.surface.vertices;
     for (const ClampConfig& clamp : config.clamps) {

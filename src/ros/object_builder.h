@@ -1,7 +1,7 @@
 #pragma once
 // Turns an object's configuration into a calibrated model in the world frame, its visual
-// surface and its clamps. Only the core library; kept in the node layer because it follows the
-// configuration's vocabulary.
+// surface and its clamps: the configuration becomes a core::BodyRecipe (the core builds the model
+// the way it builds every body), placed at the object's pose.
 
 #include <memory>
 #include <string>

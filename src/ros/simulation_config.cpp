@@ -1,98 +1,28 @@
 #include "simulation_config.h"
 
-#include <cmath>
-#include <cstdlib>
 #include <set>
-#include <sstream>
 
 #include <ros/package.h>
 #include <xmlrpcpp/XmlRpcValue.h>
+
+#include "parameter_tree.h"
 
 namespace msm_sim::ros_interface {
 namespace {
 
 using XmlRpc::XmlRpcValue;
 
-[[noreturn]] void Fail(const std::string& parameter, const std::string& problem) {
-  throw ConfigError("parameter " + parameter + ": " + problem);
-}
-
-bool Has(XmlRpcValue& value, const std::string& key) {
-  return value.getType() == XmlRpcValue::TypeStruct && value.hasMember(key);
-}
-
-double ToDouble(XmlRpcValue& value, const std::string& parameter) {
-  if (value.getType() == XmlRpcValue::TypeDouble) return static_cast<double>(value);
-  if (value.getType() == XmlRpcValue::TypeInt) return static_cast<int>(value);
-  if (value.getType() == XmlRpcValue::TypeString) {
-    // YAML 1.1 (PyYAML, rosparam) reads 1.0e5 without an exponent sign as text; take it.
-    const std::string text = static_cast<std::string>(value);
-    char* end = nullptr;
-    const double number = std::strtod(text.c_str(), &end);
-    if (!text.empty() && end == text.c_str() + text.size()) return number;
-    Fail(parameter, "expected a number, got '" + text + "'");
-  }
-  Fail(parameter, "expected a number");
-}
-
-double Number(XmlRpcValue& parent, const std::string& key, double fallback,
-              const std::string& path) {
-  if (!Has(parent, key)) return fallback;
-  const double value = ToDouble(parent[key], path + "/" + key);
-  if (!std::isfinite(value)) Fail(path + "/" + key, "must be finite");
-  return value;
-}
-
-double Positive(XmlRpcValue& parent, const std::string& key, double fallback,
-                const std::string& path) {
-  const double value = Number(parent, key, fallback, path);
-  if (!(value > 0.0)) Fail(path + "/" + key, "must be > 0 (got " + std::to_string(value) + ")");
-  return value;
-}
-
-double NonNegative(XmlRpcValue& parent, const std::string& key, double fallback,
-                   const std::string& path) {
-  const double value = Number(parent, key, fallback, path);
-  if (!(value >= 0.0)) Fail(path + "/" + key, "must be >= 0 (got " + std::to_string(value) + ")");
-  return value;
-}
-
-std::string Text(XmlRpcValue& parent, const std::string& key, const std::string& fallback,
-                 const std::string& path) {
-  if (!Has(parent, key)) return fallback;
-  if (parent[key].getType() != XmlRpcValue::TypeString) Fail(path + "/" + key, "expected text");
-  return static_cast<std::string>(parent[key]);
-}
-
-bool Flag(XmlRpcValue& parent, const std::string& key, bool fallback, const std::string& path) {
-  if (!Has(parent, key)) return fallback;
-  if (parent[key].getType() != XmlRpcValue::TypeBoolean) {
-    Fail(path + "/" + key, "expected true or false");
-  }
-  return static_cast<bool>(parent[key]);
-}
-
-Eigen::Vector3d Vector(XmlRpcValue& parent, const std::string& key, const Eigen::Vector3d& fallback,
-                       const std::string& path) {
-  if (!Has(parent, key)) return fallback;
-  XmlRpcValue& list = parent[key];
-  if (list.getType() != XmlRpcValue::TypeArray || list.size() != 3) {
-    Fail(path + "/" + key, "expected a list of 3 numbers");
-  }
-  Eigen::Vector3d v;
-  for (int i = 0; i < 3; ++i) v[i] = ToDouble(list[i], path + "/" + key);
-  if (!v.allFinite()) Fail(path + "/" + key, "must be finite");
-  return v;
-}
-
-void OneOf(const std::string& value, const std::set<std::string>& allowed,
-           const std::string& parameter) {
-  if (allowed.count(value) == 0) {
-    std::ostringstream list;
-    for (const std::string& a : allowed) list << (list.tellp() > 0 ? ", " : "") << a;
-    Fail(parameter, "'" + value + "' is not one of " + list.str());
-  }
-}
+using param::Fail;
+using param::FailNotOneOf;
+using param::Flag;
+using param::Get;
+using param::Has;
+using param::NonNegative;
+using param::Number;
+using param::OneOf;
+using param::Positive;
+using param::Text;
+using param::Vector;
 
 WorldConfig ReadWorld(XmlRpcValue& world) {
   const std::string path = "~world";
@@ -140,26 +70,51 @@ void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string
   }
 }
 
-ShapeConfig ReadShape(XmlRpcValue& object, const std::string& path) {
+core::BodyShape ReadShape(XmlRpcValue& object, const std::string& path) {
   if (!Has(object, "shape")) Fail(path + "/shape", "missing (box, sphere, cylinder or mesh)");
   XmlRpcValue& shape = object["shape"];
   const std::string shape_path = path + "/shape";
-  ShapeConfig config;
-  config.type = Text(shape, "type", "", shape_path);
-  OneOf(config.type, {"box", "sphere", "cylinder", "mesh"}, shape_path + "/type");
-  if (config.type == "box") {
+  const std::string type = Text(shape, "type", "", shape_path);
+  OneOf(type, {"box", "sphere", "cylinder", "mesh"}, shape_path + "/type");
+  core::BodyShape config;
+  if (type == "box") {
+    config.kind = core::BodyShape::Kind::kBox;
     config.size = Vector(shape, "size", Eigen::Vector3d::Zero(), shape_path);
     if ((config.size.array() <= 0.0).any()) Fail(shape_path + "/size", "each must be > 0");
-  } else if (config.type == "sphere") {
+  } else if (type == "sphere") {
+    config.kind = core::BodyShape::Kind::kSphere;
     config.radius = Positive(shape, "radius", 0.0, shape_path);
-  } else if (config.type == "cylinder") {
+  } else if (type == "cylinder") {
+    config.kind = core::BodyShape::Kind::kCylinder;
     config.radius = Positive(shape, "radius", 0.0, shape_path);
     config.length = Positive(shape, "length", 0.0, shape_path);
   } else {
+    config.kind = core::BodyShape::Kind::kMesh;
     config.mesh_path = ResolveUri(Text(shape, "uri", "", shape_path), shape_path + "/uri");
-    config.scale = Positive(shape, "scale", 1.0, shape_path);
+    config.mesh_scale = Positive(shape, "scale", 1.0, shape_path);
   }
   return config;
+}
+
+// The lattice, by the core's names.
+core::LatticeKind ReadLatticeKind(XmlRpcValue& object, core::LatticeKind fallback,
+                                  const std::string& path) {
+  const std::string name = Text(object, "model", core::LatticeKindName(fallback), path);
+  core::LatticeKind kind = fallback;
+  if (!core::ParseLatticeKind(name, &kind)) {
+    const std::vector<std::string>& names = core::LatticeKindNames();
+    FailNotOneOf(name, {names.begin(), names.end()}, path + "/model");
+  }
+  return kind;
+}
+
+// The spring law, by the core's names.
+core::SpringLaw ReadSpringLaw(XmlRpcValue& object, const std::string& path) {
+  const std::string name = Text(object, "spring", "linear", path);
+  core::SpringLaw law = core::SpringLaw::kLinear;
+  if (!core::ParseSpringLaw(name, &law))
+    FailNotOneOf(name, {"linear", "nonlinear"}, path + "/spring");
+  return law;
 }
 
 Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
@@ -201,9 +156,9 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   if (config.name.empty()) Fail(path + "/name", "missing");
   config.shape = ReadShape(object, path);
   config.pose = ReadPose(object, path);
-  config.model = Text(object, "model", config.model, path);
-  OneOf(config.model, {"cubic", "random", "baudet"}, path + "/model");
-  if (config.model == "baudet" && config.shape.type != "box") {
+  config.model = ReadLatticeKind(object, config.model, path);
+  if (config.model == core::LatticeKind::kBaudet &&
+      config.shape.kind != core::BodyShape::Kind::kBox) {
     Fail(path + "/model", "baudet fills boxes only (shape type box)");
   }
   config.spacing = NonNegative(object, "spacing", 0.0, path);
@@ -211,8 +166,7 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   if ((config.spacing > 0.0) == (config.target_nodes > 0)) {
     Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
   }
-  config.spring = Text(object, "spring", config.spring, path);
-  OneOf(config.spring, {"linear", "nonlinear"}, path + "/spring");
+  config.spring = ReadSpringLaw(object, path);
   config.antialias = Flag(object, "antialias", true, path);
   config.seed = static_cast<std::uint64_t>(NonNegative(object, "seed", 1.0, path));
   ReadMaterial(object, materials, path, &config);
@@ -237,6 +191,88 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   return config;
 }
 
+// ~objects, each with a unique name; ~materials supplies the materials objects name.
+std::vector<ObjectConfig> ReadObjects(XmlRpcValue& root) {
+  XmlRpcValue materials;
+  const bool has_materials =
+      Get(root, "materials", &materials) && materials.getType() == XmlRpcValue::TypeStruct;
+  XmlRpcValue objects;
+  if (!Get(root, "objects", &objects) || objects.getType() != XmlRpcValue::TypeArray ||
+      objects.size() == 0) {
+    Fail("~objects", "missing: list at least one object (see config/default.yaml)");
+  }
+  std::vector<ObjectConfig> configs;
+  std::set<std::string> names;
+  for (int i = 0; i < objects.size(); ++i) {
+    ObjectConfig object = ReadObject(objects[i], has_materials ? &materials : nullptr,
+                                     "~objects[" + std::to_string(i) + "]");
+    if (!names.insert(object.name).second) {
+      Fail("~objects[" + std::to_string(i) + "]/name", "duplicate name '" + object.name + "'");
+    }
+    configs.push_back(std::move(object));
+  }
+  return configs;
+}
+
+// ~wrench_inputs, each applied to one of the objects.
+std::vector<WrenchInputConfig> ReadWrenchInputs(XmlRpcValue& inputs,
+                                                const std::vector<ObjectConfig>& objects) {
+  std::set<std::string> names;
+  for (const ObjectConfig& object : objects) names.insert(object.name);
+  if (inputs.getType() != XmlRpcValue::TypeArray) Fail("~wrench_inputs", "expected a list");
+  std::vector<WrenchInputConfig> configs;
+  for (int i = 0; i < inputs.size(); ++i) {
+    const std::string path = "~wrench_inputs[" + std::to_string(i) + "]";
+    WrenchInputConfig input;
+    input.topic = Text(inputs[i], "topic", "", path);
+    input.object = Text(inputs[i], "object", "", path);
+    input.radius = NonNegative(inputs[i], "radius", input.radius, path);
+    if (input.topic.empty()) Fail(path + "/topic", "missing");
+    if (names.count(input.object) == 0) Fail(path + "/object", "no object '" + input.object + "'");
+    configs.push_back(input);
+  }
+  return configs;
+}
+
+// ~robot: its presence enables the robot colliders.
+RobotConfig ReadRobot(XmlRpcValue& robot) {
+  if (robot.getType() != XmlRpcValue::TypeStruct) Fail("~robot", "expected a dictionary");
+  RobotConfig r;
+  r.enabled = true;
+  r.description_param = Text(robot, "description_param", r.description_param, "~robot");
+  r.friction = NonNegative(robot, "friction", r.friction, "~robot");
+  r.tf_timeout = Positive(robot, "tf_timeout", r.tf_timeout, "~robot");
+  if (Has(robot, "links")) {
+    XmlRpcValue& links = robot["links"];
+    if (links.getType() != XmlRpcValue::TypeArray) Fail("~robot/links", "expected a list");
+    for (int i = 0; i < links.size(); ++i) {
+      if (links[i].getType() != XmlRpcValue::TypeString) {
+        Fail("~robot/links[" + std::to_string(i) + "]", "expected a link name");
+      }
+      r.links.push_back(static_cast<std::string>(links[i]));
+    }
+  }
+  if (Has(robot, "link_friction")) {
+    XmlRpcValue& table = robot["link_friction"];
+    if (table.getType() != XmlRpcValue::TypeStruct) {
+      Fail("~robot/link_friction", "expected {link: coefficient}");
+    }
+    for (auto& [link, value] : table) {
+      r.link_friction[link] = NonNegative(table, link, 0.0, "~robot/link_friction");
+    }
+  }
+  return r;
+}
+
+MarkerConfig ReadMarkers(XmlRpcValue& markers) {
+  MarkerConfig config;
+  config.colour_by_strain = Flag(markers, "colour_by_strain", true, "~markers");
+  config.strain_range = Positive(markers, "strain_range", 0.2, "~markers");
+  config.nodes = Flag(markers, "nodes", false, "~markers");
+  config.springs = Flag(markers, "springs", false, "~markers");
+  return config;
+}
+
 }  // namespace
 
 std::string ResolveUri(const std::string& uri, const std::string& parameter) {
@@ -255,13 +291,6 @@ std::string ResolveUri(const std::string& uri, const std::string& parameter) {
   return uri;
 }
 
-// A key of the parameter tree, as getParam would give it.
-static bool Get(XmlRpcValue& root, const std::string& key, XmlRpcValue* value) {
-  if (!Has(root, key)) return false;
-  *value = root[key];
-  return true;
-}
-
 SimulationConfig LoadSimulationConfig(const ros::NodeHandle& private_handle) {
   XmlRpcValue root;
   if (!private_handle.getParam(private_handle.getNamespace(), root) ||
@@ -278,73 +307,14 @@ SimulationConfig LoadSimulationConfig(XmlRpc::XmlRpcValue root) {
     if (world.getType() != XmlRpcValue::TypeStruct) Fail("~world", "expected a dictionary");
     config.world = ReadWorld(world);
   }
-  XmlRpcValue materials;
-  const bool has_materials =
-      Get(root, "materials", &materials) && materials.getType() == XmlRpcValue::TypeStruct;
-  XmlRpcValue objects;
-  if (!Get(root, "objects", &objects) || objects.getType() != XmlRpcValue::TypeArray ||
-      objects.size() == 0) {
-    Fail("~objects", "missing: list at least one object (see config/default.yaml)");
-  }
-  std::set<std::string> names;
-  for (int i = 0; i < objects.size(); ++i) {
-    ObjectConfig object = ReadObject(objects[i], has_materials ? &materials : nullptr,
-                                     "~objects[" + std::to_string(i) + "]");
-    if (!names.insert(object.name).second) {
-      Fail("~objects[" + std::to_string(i) + "]/name", "duplicate name '" + object.name + "'");
-    }
-    config.objects.push_back(std::move(object));
-  }
+  config.objects = ReadObjects(root);
   XmlRpcValue inputs;
-  if (Get(root, "wrench_inputs", &inputs)) {
-    if (inputs.getType() != XmlRpcValue::TypeArray) Fail("~wrench_inputs", "expected a list");
-    for (int i = 0; i < inputs.size(); ++i) {
-      const std::string path = "~wrench_inputs[" + std::to_string(i) + "]";
-      WrenchInputConfig input;
-      input.topic = Text(inputs[i], "topic", "", path);
-      input.object = Text(inputs[i], "object", "", path);
-      input.radius = NonNegative(inputs[i], "radius", input.radius, path);
-      if (input.topic.empty()) Fail(path + "/topic", "missing");
-      if (names.count(input.object) == 0)
-        Fail(path + "/object", "no object '" + input.object + "'");
-      config.wrench_inputs.push_back(input);
-    }
-  }
+  if (Get(root, "wrench_inputs", &inputs))
+    config.wrench_inputs = ReadWrenchInputs(inputs, config.objects);
   XmlRpcValue robot;
-  if (Get(root, "robot", &robot)) {
-    if (robot.getType() != XmlRpcValue::TypeStruct) Fail("~robot", "expected a dictionary");
-    RobotConfig& r = config.robot;
-    r.enabled = true;
-    r.description_param = Text(robot, "description_param", r.description_param, "~robot");
-    r.friction = NonNegative(robot, "friction", r.friction, "~robot");
-    r.tf_timeout = Positive(robot, "tf_timeout", r.tf_timeout, "~robot");
-    if (Has(robot, "links")) {
-      XmlRpcValue& links = robot["links"];
-      if (links.getType() != XmlRpcValue::TypeArray) Fail("~robot/links", "expected a list");
-      for (int i = 0; i < links.size(); ++i) {
-        if (links[i].getType() != XmlRpcValue::TypeString) {
-          Fail("~robot/links[" + std::to_string(i) + "]", "expected a link name");
-        }
-        r.links.push_back(static_cast<std::string>(links[i]));
-      }
-    }
-    if (Has(robot, "link_friction")) {
-      XmlRpcValue& table = robot["link_friction"];
-      if (table.getType() != XmlRpcValue::TypeStruct) {
-        Fail("~robot/link_friction", "expected {link: coefficient}");
-      }
-      for (auto& [link, value] : table) {
-        r.link_friction[link] = NonNegative(table, link, 0.0, "~robot/link_friction");
-      }
-    }
-  }
+  if (Get(root, "robot", &robot)) config.robot = ReadRobot(robot);
   XmlRpcValue markers;
-  if (Get(root, "markers", &markers)) {
-    config.markers.colour_by_strain = Flag(markers, "colour_by_strain", true, "~markers");
-    config.markers.strain_range = Positive(markers, "strain_range", 0.2, "~markers");
-    config.markers.nodes = Flag(markers, "nodes", false, "~markers");
-    config.markers.springs = Flag(markers, "springs", false, "~markers");
-  }
+  if (Get(root, "markers", &markers)) config.markers = ReadMarkers(markers);
   return config;
 }
 

@@ -13,21 +13,16 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "msm_sim/build/body_recipe.h"
+#include "msm_sim/build/body_shape.h"
+#include "msm_sim/material/spring_law.h"
+
 namespace msm_sim::ros_interface {
 
 /// A configuration the node cannot run with; what() names the parameter and what is wrong.
 class ConfigError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
-};
-
-struct ShapeConfig {
-  std::string type = "box";                               ///< box | sphere | cylinder | mesh
-  Eigen::Vector3d size = Eigen::Vector3d::Constant(0.1);  ///< box, m
-  double radius = 0.05;                                   ///< sphere, cylinder, m
-  double length = 0.1;                                    ///< cylinder, m
-  std::string mesh_path;                                  ///< mesh: resolved file path
-  double scale = 1.0;                                     ///< mesh units to metres
 };
 
 /// Nodes fixed in place: those inside a box or behind a plane, in the world frame at start.
@@ -41,12 +36,12 @@ struct ClampConfig {
 
 struct ObjectConfig {
   std::string name;
-  ShapeConfig shape;
+  core::BodyShape shape;  ///< YAML shape: type box | sphere | cylinder | mesh (uri, scale)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
-  std::string model = "cubic";                             ///< cubic | random | baudet
+  core::LatticeKind model = core::LatticeKind::kCubic;     ///< YAML: cubic | random | baudet
   double spacing = 0.0;                                    ///< m; 0 with target_nodes > 0
-  int target_nodes = 0;           ///< choose the spacing for about this many nodes
-  std::string spring = "linear";  ///< linear | nonlinear
+  int target_nodes = 0;  ///< choose the spacing for about this many nodes
+  core::SpringLaw spring = core::SpringLaw::kLinear;  ///< YAML: linear | nonlinear
   bool antialias = true;
   std::uint64_t seed = 1;                             ///< random models
   double youngs = 0.0, poisson = 0.0, density = 0.0;  ///< Pa, -, kg/m^3

@@ -1,0 +1,103 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/material/material.h"
+#include "msm_sim/material/spring_law.h"
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// The lattices a body can be built from (SPEC.md §2, thesis 2.3): the cubic A+B lattice
+/// (BuildCubicLattice, BuildCubicLatticeInSolid), the random lattice (BuildRandomLattice,
+/// BuildRandomLatticeInSolid) and Baudet's bricks (BuildBaudetLattice).
+enum class LatticeKind { kCubic, kRandom, kBaudet };
+
+/// Parses "cubic" / "random" / "baudet"; returns false (and leaves *kind) for anything else.
+bool ParseLatticeKind(const std::string& name, LatticeKind* kind);
+
+/// The name ParseLatticeKind reads back: "cubic", "random" or "baudet".
+const char* LatticeKindName(LatticeKind kind);
+
+/// Every name ParseLatticeKind accepts, in declaration order: cubic, random, baudet. Command
+/// lines and configurations validate against this list.
+const std::vector<std::string>& LatticeKindNames();
+
+/// Everything that makes a calibrated model of a body: the material, the region it fills and the
+/// lattice that fills it. One recipe, built by BuildModel, serves every front end (the node's
+/// objects, the lab's bodies), so that a body is built the same way whoever asks.
+///
+/// The region is the closed `solid` if one is given, else the box [0, box_size]. Fields a lattice
+/// does not use are ignored (each says which lattice reads it).
+struct BodyRecipe {
+  explicit BodyRecipe(const Material& body_material) : material(body_material) {}
+
+  /// What the springs are calibrated for (E, nu, rho).
+  Material material;
+
+  // --- Region ------------------------------------------------------------------------------
+  /// Non-null: the body is this closed solid, in its own frame (cubic: node-centred, lattice
+  /// centred on its bounding box; random). Baudet bricks and element-corner cubic lattices fill
+  /// boxes only. Null (default): the body is the box [0, box_size].
+  std::shared_ptr<const SolidMesh> solid;
+  /// Box region: edge lengths (m), each > 0. Default 1 m each. Ignored with a solid.
+  Eigen::Vector3d box_size = Eigen::Vector3d::Ones();
+  /// Box region: move the built model by -box_size / 2, so that the box is centred on the origin
+  /// like the primitives of BodyShape. Default false (the box starts at the origin). Must be
+  /// false with a solid.
+  bool centre_box = false;
+
+  // --- Lattice -------------------------------------------------------------------------------
+  /// Which lattice fills the region. Default cubic.
+  LatticeKind lattice = LatticeKind::kCubic;
+  /// All lattices: the lattice spacing a (cubic), brick edge (Baudet) or characteristic spacing
+  /// l (random), m, > 0 and at most the smallest box (or bounding-box) edge. Default 0.1 m.
+  /// Ignored when target_nodes > 0.
+  double spacing = 0.1;
+  /// All lattices: > 0 chooses the spacing for about this many nodes instead,
+  /// spacing = cbrt(V / target_nodes), V as below. Default 0 (use `spacing`); >= 0.
+  int target_nodes = 0;
+  /// The volume V that target_nodes divides (m^3), >= 0. Default 0: the region's own volume
+  /// (the solid's, or box_size.prod()). A front end that fills a box but knows the body as a
+  /// solid passes the solid's volume here.
+  double target_volume = 0.0;
+  /// All lattices: the springs' tension law. Default linear.
+  SpringLaw spring_law = SpringLaw::kLinear;
+  /// Cubic and Baudet: the lattice is rotated by rotation_angle (rad) about rotation_axis (non-zero
+  /// when the angle is not 0), about the box centre (box) or the bounding-box centre (solid).
+  /// Default: no rotation. Ignored by random lattices.
+  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
+  double rotation_angle = 0.0;
+  /// Cubic: node-centred (default) or element-corner; a solid takes node-centred only.
+  CubicConstruction construction = CubicConstruction::kNodeCentred;
+  /// Cubic in a solid: SPEC.md §5 anti-aliasing (cells weighted by the fraction inside the
+  /// surface). Default on.
+  bool antialias = true;
+  /// Random: the random sequential addition's seed; same seed, same model. Default 1.
+  std::uint64_t seed = 1;
+  /// Random: minL and maxL as multiples of l, 0 < min < max. Defaults 0.8 and 1.9 (what both
+  /// front ends use; the builder's own default maxL is 1.7).
+  double random_min_distance = 0.8;
+  double random_max_distance = 1.9;
+  /// Random: how stiffness varies with rest length. Default inverse-square.
+  RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
+};
+
+/// Builds the recipe's model: the lattice's builder with the recipe's options, in the region's
+/// frame (moved by -box_size / 2 with centre_box).
+///
+/// Throws std::invalid_argument for a combination no builder takes (a solid with Baudet bricks or
+/// an element-corner lattice, centre_box with a solid, a negative target_nodes or target_volume),
+/// and whatever the builder throws for bad geometry or options (std::invalid_argument), or
+/// std::runtime_error when random sequential addition cannot place the nodes.
+Model BuildModel(const BodyRecipe& recipe);
+
+}  // namespace msm_sim::core

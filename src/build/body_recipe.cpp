@@ -1,0 +1,145 @@
+#include "msm_sim/build/body_recipe.h"
+
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/build/mesh_lattice_builder.h"
+#include "msm_sim/model/model_transform.h"
+
+namespace msm_sim::core {
+namespace {
+
+constexpr std::array<LatticeKind, 3> kLatticeKinds = {LatticeKind::kCubic, LatticeKind::kRandom,
+                                                      LatticeKind::kBaudet};
+
+void Validate(const BodyRecipe& recipe) {
+  if (recipe.solid && (recipe.lattice == LatticeKind::kBaudet ||
+                       recipe.construction == CubicConstruction::kElementCorner)) {
+    // Worded for the lab, whose --mesh is the only way a user meets this.
+    throw std::invalid_argument(
+        "--mesh builds node-centred cubic or random lattices (Baudet bricks and element-corner "
+        "lattices fill boxes only)");
+  }
+  if (recipe.solid && recipe.centre_box) {
+    throw std::invalid_argument("centre_box moves a box region; a solid stays in its own frame");
+  }
+  if (recipe.target_nodes < 0) throw std::invalid_argument("target_nodes must be >= 0");
+  if (!(recipe.target_volume >= 0.0)) throw std::invalid_argument("target_volume must be >= 0");
+}
+
+// A target node count fixes the spacing: N = V / a^3.
+double Spacing(const BodyRecipe& recipe) {
+  if (recipe.target_nodes <= 0) return recipe.spacing;
+  const double volume = recipe.target_volume > 0.0 ? recipe.target_volume
+                        : recipe.solid             ? recipe.solid->volume()
+                                                   : recipe.box_size.prod();
+  return std::cbrt(volume / recipe.target_nodes);
+}
+
+RandomLatticeOptions RandomOptions(const BodyRecipe& recipe, double spacing) {
+  RandomLatticeOptions options;
+  options.size = recipe.box_size;
+  options.spacing = spacing;
+  options.seed = recipe.seed;
+  options.min_distance = recipe.random_min_distance;
+  options.max_distance = recipe.random_max_distance;
+  options.spring_law = recipe.spring_law;
+  options.stiffness_law = recipe.stiffness_law;
+  return options;
+}
+
+Model BuildInSolid(const BodyRecipe& recipe, double spacing) {
+  if (recipe.lattice == LatticeKind::kRandom) {
+    return BuildRandomLatticeInSolid(recipe.material, *recipe.solid,
+                                     RandomOptions(recipe, spacing));
+  }
+  MeshCubicLatticeOptions options;
+  options.spacing = spacing;
+  options.antialias = recipe.antialias;
+  options.spring_law = recipe.spring_law;
+  options.rotation_axis = recipe.rotation_axis;
+  options.rotation_angle = recipe.rotation_angle;
+  return BuildCubicLatticeInSolid(recipe.material, *recipe.solid, options);
+}
+
+Model BuildCubicInBox(const BodyRecipe& recipe, double spacing) {
+  CubicLatticeOptions options;
+  options.size = recipe.box_size;
+  options.spacing = spacing;
+  options.construction = recipe.construction;
+  options.spring_law = recipe.spring_law;
+  options.rotation_axis = recipe.rotation_axis;
+  options.rotation_angle = recipe.rotation_angle;
+  return BuildCubicLattice(recipe.material, options);
+}
+
+Model BuildBaudetInBox(const BodyRecipe& recipe, double spacing) {
+  BaudetLatticeOptions options;
+  options.size = recipe.box_size;
+  options.spacing = spacing;
+  options.spring_law = recipe.spring_law;
+  options.rotation_axis = recipe.rotation_axis;
+  options.rotation_angle = recipe.rotation_angle;
+  return BuildBaudetLattice(recipe.material, options);
+}
+
+Model BuildInBox(const BodyRecipe& recipe, double spacing) {
+  switch (recipe.lattice) {
+    case LatticeKind::kCubic:
+      return BuildCubicInBox(recipe, spacing);
+    case LatticeKind::kBaudet:
+      return BuildBaudetInBox(recipe, spacing);
+    case LatticeKind::kRandom:
+      break;
+  }
+  return BuildRandomLattice(recipe.material, RandomOptions(recipe, spacing));
+}
+
+}  // namespace
+
+bool ParseLatticeKind(const std::string& name, LatticeKind* kind) {
+  for (const LatticeKind candidate : kLatticeKinds) {
+    if (name == LatticeKindName(candidate)) {
+      *kind = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* LatticeKindName(LatticeKind kind) {
+  switch (kind) {
+    case LatticeKind::kCubic:
+      return "cubic";
+    case LatticeKind::kRandom:
+      return "random";
+    case LatticeKind::kBaudet:
+      return "baudet";
+  }
+  return "unknown";
+}
+
+const std::vector<std::string>& LatticeKindNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> list;
+    for (const LatticeKind kind : kLatticeKinds) list.emplace_back(LatticeKindName(kind));
+    return list;
+  }();
+  return names;
+}
+
+Model BuildModel(const BodyRecipe& recipe) {
+  Validate(recipe);
+  const double spacing = Spacing(recipe);
+  if (recipe.solid) return BuildInSolid(recipe, spacing);
+  if (!recipe.centre_box) return BuildInBox(recipe, spacing);
+  Eigen::Isometry3d centre = Eigen::Isometry3d::Identity();
+  centre.translation() = -0.5 * recipe.box_size;
+  return TransformedModel(BuildInBox(recipe, spacing), centre);
+}
+
+}  // namespace msm_sim::core

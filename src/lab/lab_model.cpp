@@ -1,0 +1,68 @@
+#include "lab_model.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/material/material.h"
+#include "msm_sim/material/spring_law.h"
+
+namespace msm_sim::lab {
+
+LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin) {
+  LabBody body;
+  if (arguments.mesh.empty()) {
+    body.max = arguments.size;
+    body.volume = arguments.size.prod();
+    return body;
+  }
+  core::MeshImportOptions options;
+  options.scale = arguments.scale;
+  core::SolidMesh solid = core::ImportSolidMesh(arguments.mesh, options);
+  if (move_to_origin) {
+    solid = core::TransformedSolid(solid, Eigen::Matrix3d::Identity(), -solid.min_corner());
+  }
+  body.min = solid.min_corner();
+  body.max = solid.max_corner();
+  body.volume = solid.volume();
+  body.solid = std::make_shared<const core::SolidMesh>(std::move(solid));
+  return body;
+}
+
+core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body) {
+  core::BodyRecipe recipe(
+      core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density));
+  if (!core::ParseSpringLaw(arguments.spring, &recipe.spring_law)) {
+    throw std::invalid_argument("unknown spring law '" + arguments.spring +
+                                "' (expected linear or nonlinear)");
+  }
+  if (!core::ParseLatticeKind(arguments.model, &recipe.lattice)) {
+    throw std::invalid_argument("unknown model '" + arguments.model +
+                                "' (expected cubic, random or baudet)");
+  }
+  recipe.solid = body.solid;
+  recipe.box_size = arguments.size;
+  recipe.spacing = arguments.spacing;
+  recipe.target_nodes = arguments.target_nodes;
+  if (arguments.rotate) {
+    recipe.rotation_axis = arguments.rotate->head<3>();
+    recipe.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
+  }
+  recipe.construction = arguments.construction == "corner" ? core::CubicConstruction::kElementCorner
+                                                           : core::CubicConstruction::kNodeCentred;
+  recipe.antialias = arguments.antialias;
+  recipe.seed = arguments.seed;
+  recipe.random_min_distance = arguments.min_dist;
+  recipe.random_max_distance = arguments.max_dist;
+  recipe.stiffness_law = arguments.stiffness == "uniform"
+                             ? core::RandomStiffnessLaw::kUniform
+                             : core::RandomStiffnessLaw::kInverseSquare;
+  return recipe;
+}
+
+core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body) {
+  return core::BuildModel(LabRecipe(arguments, body));
+}
+
+}  // namespace msm_sim::lab

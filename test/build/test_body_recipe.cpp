@@ -1,0 +1,346 @@
+// The core's one recipe for a body: the lattice names, the shapes' solids, and BuildModel giving
+// exactly the model the underlying builder gives for the same options.
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <Eigen/Geometry>
+
+#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/build/body_recipe.h"
+#include "msm_sim/build/body_shape.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/build/mesh_lattice_builder.h"
+#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/model/model_transform.h"
+
+namespace msm_sim::core {
+namespace {
+
+const Material kMaterial = Material::FromYoungsPoisson(1e5, 0.3, 1000.0);
+const Eigen::Vector3d kBox(0.6, 0.4, 0.3);
+
+// Field by field, exactly: the recipe must call the builder with the same options, not similar.
+void ExpectSameModel(const Model& actual, const Model& expected) {
+  ASSERT_EQ(actual.num_nodes(), expected.num_nodes());
+  ASSERT_EQ(actual.num_springs(), expected.num_springs());
+  EXPECT_TRUE(actual.rest_positions() == expected.rest_positions());
+  EXPECT_TRUE(actual.masses() == expected.masses());
+  EXPECT_EQ(actual.spring_node_a(), expected.spring_node_a());
+  EXPECT_EQ(actual.spring_node_b(), expected.spring_node_b());
+  EXPECT_EQ(actual.spring_rest_length(), expected.spring_rest_length());
+  EXPECT_EQ(actual.spring_stiffness(), expected.spring_stiffness());
+  EXPECT_EQ(actual.dispersion_weight_a(), expected.dispersion_weight_a());
+  EXPECT_EQ(actual.dispersion_weight_b(), expected.dispersion_weight_b());
+  EXPECT_EQ(actual.correction_edges(), expected.correction_edges());
+  EXPECT_EQ(actual.correction_coefficients(), expected.correction_coefficients());
+  EXPECT_EQ(actual.incidence_offsets(), expected.incidence_offsets());
+  EXPECT_EQ(actual.incident_springs(), expected.incident_springs());
+  EXPECT_EQ(actual.spring_law(), expected.spring_law());
+  EXPECT_EQ(actual.dispersion_fraction(), expected.dispersion_fraction());
+  EXPECT_EQ(actual.volume(), expected.volume());
+  EXPECT_EQ(actual.characteristic_length(), expected.characteristic_length());
+  EXPECT_EQ(actual.material().youngs_modulus(), expected.material().youngs_modulus());
+  EXPECT_EQ(actual.material().poisson_ratio(), expected.material().poisson_ratio());
+  EXPECT_EQ(actual.material().density(), expected.material().density());
+}
+
+std::shared_ptr<const SolidMesh> BoxSolid(const Eigen::Vector3d& size) {
+  return std::make_shared<const SolidMesh>(MakeBoxMesh(size));
+}
+
+// --- Lattice names --------------------------------------------------------------------------
+
+TEST(LatticeKind, NamesParseBackToTheirKinds) {
+  EXPECT_EQ(LatticeKindNames(), (std::vector<std::string>{"cubic", "random", "baudet"}));
+  for (const LatticeKind kind : {LatticeKind::kCubic, LatticeKind::kRandom, LatticeKind::kBaudet}) {
+    LatticeKind parsed = kind == LatticeKind::kCubic ? LatticeKind::kBaudet : LatticeKind::kCubic;
+    ASSERT_TRUE(ParseLatticeKind(LatticeKindName(kind), &parsed)) << LatticeKindName(kind);
+    EXPECT_EQ(parsed, kind);
+  }
+  for (const std::string& name : LatticeKindNames()) {
+    LatticeKind parsed = LatticeKind::kCubic;
+    ASSERT_TRUE(ParseLatticeKind(name, &parsed));
+    EXPECT_EQ(LatticeKindName(parsed), name);
+  }
+}
+
+TEST(LatticeKind, RejectsUnknownNamesAndLeavesTheKind) {
+  for (const char* name : {"", "foam", "Cubic", "cubic ", "baudets", "linear"}) {
+    LatticeKind kind = LatticeKind::kRandom;
+    EXPECT_FALSE(ParseLatticeKind(name, &kind)) << name;
+    EXPECT_EQ(kind, LatticeKind::kRandom) << name;
+  }
+}
+
+// --- Shapes ---------------------------------------------------------------------------------
+
+TEST(BodyShape, PrimitivesAreCentredSolidsOfTheirSize) {
+  BodyShape box;
+  box.size = kBox;
+  const SolidMesh box_solid = MakeBodySolid(box);
+  EXPECT_NEAR(box_solid.volume(), kBox.prod(), 1e-12);
+  EXPECT_TRUE(box_solid.min_corner().isApprox(-0.5 * kBox, 1e-12));
+  EXPECT_TRUE(box_solid.max_corner().isApprox(0.5 * kBox, 1e-12));
+
+  BodyShape sphere;
+  sphere.kind = BodyShape::Kind::kSphere;
+  sphere.radius = 0.2;
+  // 5120 flat triangles inscribed in the sphere: 0.2 % less than its volume.
+  const SolidMesh sphere_solid = MakeBodySolid(sphere);
+  EXPECT_EQ(sphere_solid.surface().num_triangles(), 5120);
+  EXPECT_NEAR(sphere_solid.volume() / (4.0 / 3.0 * M_PI * std::pow(0.2, 3)), 0.9978, 2e-4);
+  EXPECT_LT((sphere_solid.min_corner() + sphere_solid.max_corner()).norm(), 1e-12);
+
+  BodyShape cylinder;
+  cylinder.kind = BodyShape::Kind::kCylinder;
+  cylinder.radius = 0.1;
+  cylinder.length = 0.5;
+  const SolidMesh cylinder_solid = MakeBodySolid(cylinder);
+  // A 64-gon has (64 / 2pi) sin(2pi / 64) = 99.84 % of the circle's area.
+  EXPECT_NEAR(cylinder_solid.volume() / (M_PI * 0.01 * 0.5), 0.9984, 1e-4);
+  EXPECT_NEAR(cylinder_solid.max_corner().z() - cylinder_solid.min_corner().z(), 0.5, 1e-12);
+}
+
+TEST(BodyShape, MeshFilesAreScaled) {
+  BodyShape mesh;
+  mesh.kind = BodyShape::Kind::kMesh;
+  mesh.mesh_path = std::string(MSM_SIM_TEST_DATA_DIR) + "/meshes/cube_100mm.stl";
+  mesh.mesh_scale = 0.001;
+  const SolidMesh solid = MakeBodySolid(mesh);
+  EXPECT_NEAR(solid.volume(), 1e-3, 1e-12);
+  EXPECT_NEAR((solid.max_corner() - solid.min_corner()).maxCoeff(), 0.1, 1e-12);
+  mesh.mesh_path = std::string(MSM_SIM_TEST_DATA_DIR) + "/meshes/open_box.obj";
+  EXPECT_THROW(MakeBodySolid(mesh), std::runtime_error);
+  BodyShape flat;
+  flat.size = Eigen::Vector3d(0.1, 0.0, 0.1);
+  EXPECT_THROW(MakeBodySolid(flat), std::invalid_argument);
+}
+
+// --- BuildModel in a box --------------------------------------------------------------------
+
+TEST(BodyRecipe, CubicBoxIsBuildCubicLattice) {
+  BodyRecipe recipe(kMaterial);
+  recipe.box_size = kBox;
+  recipe.spacing = 0.1;
+  recipe.construction = CubicConstruction::kElementCorner;
+  recipe.spring_law = SpringLaw::kNonlinear;
+  recipe.rotation_axis = Eigen::Vector3d(1.0, 1.0, 0.0);
+  recipe.rotation_angle = 0.3;
+  CubicLatticeOptions options;
+  options.size = kBox;
+  options.spacing = 0.1;
+  options.construction = CubicConstruction::kElementCorner;
+  options.spring_law = SpringLaw::kNonlinear;
+  options.rotation_axis = Eigen::Vector3d(1.0, 1.0, 0.0);
+  options.rotation_angle = 0.3;
+  ExpectSameModel(BuildModel(recipe), BuildCubicLattice(kMaterial, options));
+
+  // The defaults: node-centred, linear, not rotated.
+  BodyRecipe plain(kMaterial);
+  plain.box_size = kBox;
+  plain.spacing = 0.1;
+  options = CubicLatticeOptions();
+  options.size = kBox;
+  options.spacing = 0.1;
+  const Model model = BuildModel(plain);
+  EXPECT_EQ(model.num_nodes(), 6 * 4 * 3);
+  ExpectSameModel(model, BuildCubicLattice(kMaterial, options));
+}
+
+TEST(BodyRecipe, RandomBoxIsBuildRandomLattice) {
+  BodyRecipe recipe(kMaterial);
+  recipe.lattice = LatticeKind::kRandom;
+  recipe.box_size = kBox;
+  recipe.spacing = 0.08;
+  recipe.seed = 7;
+  recipe.random_min_distance = 0.75;
+  recipe.random_max_distance = 1.8;
+  recipe.stiffness_law = RandomStiffnessLaw::kUniform;
+  recipe.rotation_angle = 0.5;  // ignored by random lattices
+  RandomLatticeOptions options;
+  options.size = kBox;
+  options.spacing = 0.08;
+  options.seed = 7;
+  options.min_distance = 0.75;
+  options.max_distance = 1.8;
+  options.stiffness_law = RandomStiffnessLaw::kUniform;
+  ExpectSameModel(BuildModel(recipe), BuildRandomLattice(kMaterial, options));
+
+  // The recipe's defaults are the front ends' choice: maxL 1.9 l, not the builder's 1.7.
+  BodyRecipe defaults(kMaterial);
+  defaults.lattice = LatticeKind::kRandom;
+  defaults.box_size = kBox;
+  defaults.spacing = 0.08;
+  RandomLatticeOptions with_max = RandomLatticeOptions();
+  with_max.size = kBox;
+  with_max.spacing = 0.08;
+  with_max.max_distance = 1.9;
+  ExpectSameModel(BuildModel(defaults), BuildRandomLattice(kMaterial, with_max));
+}
+
+TEST(BodyRecipe, BaudetBoxIsBuildBaudetLatticeAndCentresOnRequest) {
+  BodyRecipe recipe(kMaterial);
+  recipe.lattice = LatticeKind::kBaudet;
+  recipe.box_size = kBox;
+  recipe.spacing = 0.1;
+  recipe.rotation_axis = Eigen::Vector3d::UnitX();
+  recipe.rotation_angle = 0.2;
+  BaudetLatticeOptions options;
+  options.size = kBox;
+  options.spacing = 0.1;
+  options.rotation_axis = Eigen::Vector3d::UnitX();
+  options.rotation_angle = 0.2;
+  const Model brick = BuildBaudetLattice(kMaterial, options);
+  ExpectSameModel(BuildModel(recipe), brick);
+
+  recipe.centre_box = true;
+  Eigen::Isometry3d centre = Eigen::Isometry3d::Identity();
+  centre.translation() = -0.5 * kBox;
+  const Model centred = BuildModel(recipe);
+  ExpectSameModel(centred, TransformedModel(brick, centre));
+}
+
+// --- BuildModel in a solid ------------------------------------------------------------------
+
+TEST(BodyRecipe, CubicSolidIsBuildCubicLatticeInSolid) {
+  BodyRecipe recipe(kMaterial);
+  recipe.solid = BoxSolid(kBox);
+  recipe.spacing = 0.07;
+  recipe.antialias = false;
+  recipe.rotation_axis = Eigen::Vector3d::UnitY();
+  recipe.rotation_angle = 0.1;
+  recipe.box_size = Eigen::Vector3d::Constant(5.0);  // ignored with a solid
+  MeshCubicLatticeOptions options;
+  options.spacing = 0.07;
+  options.antialias = false;
+  options.rotation_axis = Eigen::Vector3d::UnitY();
+  options.rotation_angle = 0.1;
+  ExpectSameModel(BuildModel(recipe), BuildCubicLatticeInSolid(kMaterial, *recipe.solid, options));
+
+  recipe.antialias = true;
+  options.antialias = true;
+  ExpectSameModel(BuildModel(recipe), BuildCubicLatticeInSolid(kMaterial, *recipe.solid, options));
+}
+
+TEST(BodyRecipe, RandomSolidIsBuildRandomLatticeInSolid) {
+  BodyShape sphere;
+  sphere.kind = BodyShape::Kind::kSphere;
+  sphere.radius = 0.25;
+  BodyRecipe recipe(kMaterial);
+  recipe.lattice = LatticeKind::kRandom;
+  recipe.solid = std::make_shared<const SolidMesh>(MakeBodySolid(sphere));
+  recipe.spacing = 0.06;
+  recipe.seed = 3;
+  RandomLatticeOptions options;
+  options.spacing = 0.06;
+  options.seed = 3;
+  options.max_distance = 1.9;
+  const Model model = BuildModel(recipe);
+  ExpectSameModel(model, BuildRandomLatticeInSolid(kMaterial, *recipe.solid, options));
+  EXPECT_EQ(model.num_nodes(),
+            static_cast<int>(std::round(recipe.solid->volume() / 0.06 / 0.06 / 0.06)));
+}
+
+// --- Spacing from a node count --------------------------------------------------------------
+
+TEST(BodyRecipe, TargetNodesChooseTheSpacingFromTheVolume) {
+  // A box: V = size.prod().
+  BodyRecipe box(kMaterial);
+  box.box_size = kBox;
+  box.spacing = 123.0;  // ignored
+  box.target_nodes = 500;
+  const double box_spacing = std::cbrt(kBox.prod() / 500);
+  CubicLatticeOptions options;
+  options.size = kBox;
+  options.spacing = box_spacing;
+  const Model model = BuildModel(box);
+  EXPECT_EQ(model.characteristic_length(), box_spacing);
+  ExpectSameModel(model, BuildCubicLattice(kMaterial, options));
+
+  // A solid: V = its volume.
+  BodyRecipe solid(kMaterial);
+  solid.solid = BoxSolid(kBox);
+  solid.target_nodes = 400;
+  MeshCubicLatticeOptions mesh_options;
+  mesh_options.spacing = std::cbrt(solid.solid->volume() / 400);
+  ExpectSameModel(BuildModel(solid),
+                  BuildCubicLatticeInSolid(kMaterial, *solid.solid, mesh_options));
+
+  // An explicit volume overrides the region's.
+  BodyRecipe baudet(kMaterial);
+  baudet.lattice = LatticeKind::kBaudet;
+  baudet.box_size = kBox;
+  baudet.target_nodes = 300;
+  baudet.target_volume = 0.8 * kBox.prod();
+  BaudetLatticeOptions baudet_options;
+  baudet_options.size = kBox;
+  baudet_options.spacing = std::cbrt(0.8 * kBox.prod() / 300);
+  ExpectSameModel(BuildModel(baudet), BuildBaudetLattice(kMaterial, baudet_options));
+}
+
+// --- Invalid recipes ------------------------------------------------------------------------
+
+void ExpectInvalid(const BodyRecipe& recipe, const std::string& mentions) {
+  try {
+    BuildModel(recipe);
+    ADD_FAILURE() << "no exception; expected one mentioning " << mentions;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(mentions), std::string::npos) << e.what();
+  }
+}
+
+TEST(BodyRecipe, RejectsCombinationsNoBuilderTakes) {
+  BodyRecipe baudet_in_solid(kMaterial);
+  baudet_in_solid.lattice = LatticeKind::kBaudet;
+  baudet_in_solid.solid = BoxSolid(kBox);
+  ExpectInvalid(baudet_in_solid, "boxes only");
+
+  BodyRecipe corner_in_solid(kMaterial);
+  corner_in_solid.solid = BoxSolid(kBox);
+  corner_in_solid.construction = CubicConstruction::kElementCorner;
+  ExpectInvalid(corner_in_solid, "node-centred cubic or random lattices");
+
+  BodyRecipe centred_solid(kMaterial);
+  centred_solid.solid = BoxSolid(kBox);
+  centred_solid.centre_box = true;
+  ExpectInvalid(centred_solid, "centre_box");
+
+  BodyRecipe negative_count(kMaterial);
+  negative_count.box_size = kBox;
+  negative_count.target_nodes = -5;
+  ExpectInvalid(negative_count, "target_nodes");
+
+  BodyRecipe negative_volume(kMaterial);
+  negative_volume.box_size = kBox;
+  negative_volume.target_nodes = 10;
+  negative_volume.target_volume = -1.0;
+  ExpectInvalid(negative_volume, "target_volume");
+}
+
+TEST(BodyRecipe, PassesOnTheBuildersErrors) {
+  BodyRecipe too_coarse(kMaterial);
+  too_coarse.box_size = kBox;
+  too_coarse.spacing = 1.0;
+  EXPECT_THROW(BuildModel(too_coarse), std::invalid_argument);
+  too_coarse.lattice = LatticeKind::kBaudet;
+  EXPECT_THROW(BuildModel(too_coarse), std::invalid_argument);
+  too_coarse.lattice = LatticeKind::kRandom;
+  EXPECT_THROW(BuildModel(too_coarse), std::invalid_argument);
+
+  BodyRecipe crowded(kMaterial);
+  crowded.lattice = LatticeKind::kRandom;
+  crowded.box_size = kBox;
+  crowded.spacing = 0.1;
+  crowded.random_min_distance = 1.4;
+  crowded.random_max_distance = 2.0;
+  EXPECT_THROW(BuildModel(crowded), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace msm_sim::core
