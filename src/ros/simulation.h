@@ -3,6 +3,9 @@
 // in a core World, the conversion of input messages into forces and of the state into output
 // messages. It holds no publishers, subscribers or timers, so both front ends run the same code
 // and get the same outputs from the same inputs.
+//
+// simulation.cpp builds it and takes inputs and steps, simulation_outputs.cpp converts the state
+// into output messages, simulation_contacts.cpp reports the contacts.
 
 #include <map>
 #include <memory>
@@ -16,11 +19,14 @@
 #include <msm_sim/ContactForce.h>
 #include <ros/time.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Header.h>
 #include <tf2/buffer_core.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "msm_sim/dynamics/contact_wrench_average.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/geometry/surface_skin.h"
+#include "msm_sim/geometry/surface_strain.h"
 #include "robot_colliders.h"
 #include "simulation_config.h"
 
@@ -37,6 +43,8 @@ class Simulation {
 
   // Inputs. Each returns an empty string when the message was used, else why it was dropped.
   std::string ApplyForce(const msm_sim::ContactForce& message, const tf2::BufferCore& tf);
+  /// Holds the wrench on wrench input `input` (an index into config().wrench_inputs; throws
+  /// std::out_of_range otherwise) until the next message, or for 0.5 s of `now` without one.
   std::string SetWrench(std::size_t input, const geometry_msgs::WrenchStamped& message,
                         const ros::Time& now, const tf2::BufferCore& tf);
   /// Robot link poses from tf at `now`.
@@ -70,15 +78,8 @@ class Simulation {
     ObjectConfig config;
     int body = 0;
     std::shared_ptr<const core::SurfaceSkin> skin;
+    core::SurfaceStrain strain;            // of the skin's surface, for colouring
     std::vector<std::string> clamp_names;  // wrench index = colliders + position here
-    Eigen::VectorXd rest_edge_lengths;     // of the surface's triangle edges, for colouring
-  };
-  struct ContactSum {
-    Eigen::Vector3d force_time = Eigen::Vector3d::Zero();
-    Eigen::Vector3d torque_time = Eigen::Vector3d::Zero();
-    Eigen::Vector3d weighted_centroid = Eigen::Vector3d::Zero();
-    double weight = 0.0;
-    long microcollisions = 0;
   };
   struct WrenchInput {
     WrenchInputConfig config;
@@ -88,18 +89,45 @@ class Simulation {
     Eigen::Vector3d point, force, torque;  // world frame
   };
 
+  // Construction (simulation.cpp).
+  void AddGround();
+  /// Builds object `config_.objects[index]` into the World. Throws ConfigError.
+  void AddObject(std::size_t index);
   int FindObject(const std::string& name) const;
   bool LookUp(const tf2::BufferCore& tf, const std::string& frame, const ros::Time& stamp,
               Eigen::Isometry3d* transform, std::string* error) const;
   core::BodyOptions BodyOptionsOf(const ObjectConfig& config) const;
+
+  // Stepping (simulation.cpp).
+  /// Applies the wrench inputs to their objects for the next step; those older than the hold
+  /// time at `now` turn inactive instead.
+  void ApplyHeldWrenches(const ros::Time& now);
+  /// Adds the wrenches of the accepted step of `dt` seconds to the contact averages.
+  void AddStepContacts(double dt);
+  void ResetContactAverages();
+
+  // Outputs (simulation_outputs.cpp): one object's markers, stamped by `header`.
+  visualization_msgs::Marker SurfaceMarker(const Object& object,
+                                           const std_msgs::Header& header) const;
+  visualization_msgs::Marker NodeMarker(const Object& object, const std_msgs::Header& header) const;
+  visualization_msgs::Marker SpringMarker(const Object& object,
+                                          const std_msgs::Header& header) const;
+
+  // Contacts (simulation_contacts.cpp).
+  /// Appends object `object`'s contacts with the colliders that belong to no robot link and
+  /// with its clamps to `array`; returns the averages of its robot links' contacts (per link,
+  /// about the link origin, world axes).
+  std::vector<core::ContactWrenchAverage> ReportColliderContacts(
+      std::size_t object, msm_sim::ContactArray* array) const;
 
   SimulationConfig config_;
   core::World world_;
   std::vector<Object> objects_;
   std::unique_ptr<RobotColliders> robot_;
   std::vector<WrenchInput> wrench_inputs_;
-  std::vector<std::vector<ContactSum>> contact_sums_;
-  double contact_time_ = 0.0;  // s of simulation summed into contact_sums_
+  // Per object, per wrench (World colliders, then the object's clamps): the average since the
+  // last Contacts.
+  std::vector<std::vector<core::ContactWrenchAverage>> contact_averages_;
   long steps_ = 0, rejected_steps_ = 0, steps_since_report_ = 0;
   int last_substeps_ = 0;
   double step_wall_seconds_ = 0.0, simulated_since_report_ = 0.0;
