@@ -1,0 +1,195 @@
+// ForceEvaluator's elastic energy and linearisation (the stiffness K = -d(forces)/d(positions)
+// and its diagonal). The force passes, the hot loop of every step, are in force_evaluator.cpp.
+
+#include "msm_sim/mechanics/force_evaluator.h"
+
+#include <cstddef>
+
+namespace msm_sim::core {
+
+template <SpringLaw Law>
+double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& k = model_->spring_stiffness();
+  const double q = model_->dispersion_fraction();
+  Eigen::VectorXd accumulator = Eigen::VectorXd::Zero(q != 0.0 ? model_->num_nodes() : 0);
+  double energy = 0.0;
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const double length = (positions.col(b[s]) - positions.col(a[s])).norm();
+    energy += SpringEnergy<Law>(k[s], rest[s], length);
+    if (q != 0.0) {
+      const double t = SpringTension<Law>(k[s], rest[s], length);
+      accumulator[a[s]] += inflow_a_[s] * t;
+      accumulator[b[s]] += inflow_b_[s] * t;
+    }
+  }
+  // Phi = sum J^2 / (2 q W); inverse_star_weight_ holds 1 / W.
+  if (q != 0.0) {
+    energy += 0.5 / q * accumulator.cwiseAbs2().dot(inverse_star_weight_);
+  }
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double elongation[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      elongation[i / 4] += (positions.col(b[s]) - positions.col(a[s])).norm() - rest[s];
+    }
+    energy += model_->correction_coefficients()[e] *
+              (elongation[0] * elongation[1] + elongation[1] * elongation[2] +
+               elongation[2] * elongation[0]);
+  }
+  return energy;
+}
+
+double ForceEvaluator::ElasticEnergy(const Eigen::Matrix3Xd& positions) const {
+  return model_->spring_law() == SpringLaw::kLinear ? EnergyImpl<SpringLaw::kLinear>(positions)
+                                                    : EnergyImpl<SpringLaw::kNonlinear>(positions);
+}
+
+template <SpringLaw Law>
+void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& rest = model_->spring_rest_length();
+  const auto& k = model_->spring_stiffness();
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const Eigen::Vector3d r = positions.col(b[s]) - positions.col(a[s]);
+    lengths_[s] = r.norm();
+    directions_.col(s) = r / lengths_[s];
+    tangent_stiffness_[s] = SpringTangentStiffness<Law>(k[s], rest[s], lengths_[s]);
+  }
+}
+
+void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions) {
+  // Exact (two-pass) total tensions at `positions`, without disturbing the one-pass history of
+  // the caller's simulation.
+  const DispersionPasses saved_passes = passes_;
+  const bool saved_has_previous = has_previous_dispersion_;
+  const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
+  passes_ = DispersionPasses::kTwoPass;
+  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
+  AccumulateForces(positions, &scratch);
+  passes_ = saved_passes;
+  has_previous_dispersion_ = saved_has_previous;
+  dispersion_per_weight_ = saved_dispersion;
+  model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
+                                             : LinearizeImpl<SpringLaw::kNonlinear>(positions);
+}
+
+void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  out->setZero(3, model_->num_nodes());
+  Eigen::VectorXd accumulator_change;
+  if (disperse) accumulator_change.setZero(model_->num_nodes());
+  // The force on a is T u (T total tension, u from a to b); its change is dT u + T du with
+  // du = (dv - u (u . dv)) / L. K v = -d(force).
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const Eigen::Vector3d dv = v.col(b[s]) - v.col(a[s]);
+    const Eigen::Vector3d u = directions_.col(s);
+    const double stretch_rate = u.dot(dv);
+    const double dt = tangent_stiffness_[s] * stretch_rate;
+    const Eigen::Vector3d df =
+        dt * u + (total_tensions_[s] / lengths_[s]) * (dv - u * stretch_rate);
+    out->col(a[s]) -= df;
+    out->col(b[s]) += df;
+    if (disperse) {
+      accumulator_change[a[s]] += inflow_a_[s] * dt;
+      accumulator_change[b[s]] += inflow_b_[s] * dt;
+    }
+  }
+  ApplyCorrectionStiffness(v, out);
+  if (!disperse) return;
+  const Eigen::VectorXd dg = accumulator_change.cwiseProduct(inverse_star_weight_);
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const double dt_dispersed = outflow_a_[s] * dg[a[s]] + outflow_b_[s] * dg[b[s]];
+    const Eigen::Vector3d df = dt_dispersed * directions_.col(s);
+    out->col(a[s]) -= df;
+    out->col(b[s]) += df;
+  }
+}
+
+void ForceEvaluator::ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v,
+                                              Eigen::Matrix3Xd* out) const {
+  // The correction tensions' change: d tension_j = c sum_{i != j} dS_i, dS_i = sum u . dv over the
+  // edges along i, applied along each edge (their own direction change is in the geometric term
+  // of ApplyStiffness, since total_tensions_ includes them).
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    double rate[3] = {0.0, 0.0, 0.0};
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      rate[i / 4] += directions_.col(s).dot(v.col(b[s]) - v.col(a[s]));
+    }
+    const double sum = rate[0] + rate[1] + rate[2];
+    for (int i = 0; i < 12; ++i) {
+      const SpringIndex s = edges[e][i];
+      const Eigen::Vector3d df =
+          model_->correction_coefficients()[e] * (sum - rate[i / 4]) * directions_.col(s);
+      out->col(a[s]) -= df;
+      out->col(b[s]) += df;
+    }
+  }
+}
+
+Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  const int n = model_->num_nodes();
+  Eigen::Matrix3Xd diagonal = Eigen::Matrix3Xd::Zero(3, n);
+  // Dispersion couples node a to itself through J_a: (1 / W_a) s1 s2^T with s1 = sum (w / L0) u
+  // and s2 = sum (q v L0) k' u over the springs at a (u pointing away from a).
+  Eigen::Matrix3Xd s1 = Eigen::Matrix3Xd::Zero(3, n);
+  Eigen::Matrix3Xd s2 = Eigen::Matrix3Xd::Zero(3, n);
+  for (int s = 0; s < model_->num_springs(); ++s) {
+    const Eigen::Vector3d u = directions_.col(s);
+    const Eigen::Vector3d u2 = u.cwiseProduct(u);
+    const double kt = tangent_stiffness_[s];
+    const double geometric = total_tensions_[s] / lengths_[s];
+    const Eigen::Vector3d block = kt * u2 + geometric * (Eigen::Vector3d::Ones() - u2);
+    diagonal.col(a[s]) += block;
+    diagonal.col(b[s]) += block;
+    if (disperse) {
+      // And through J of the other end, which holds this spring's own inflow.
+      diagonal.col(a[s]) += kt * outflow_b_[s] * inflow_b_[s] * inverse_star_weight_[b[s]] * u2;
+      diagonal.col(b[s]) += kt * outflow_a_[s] * inflow_a_[s] * inverse_star_weight_[a[s]] * u2;
+      s1.col(a[s]) += outflow_a_[s] * u;
+      s1.col(b[s]) -= outflow_b_[s] * u;
+      s2.col(a[s]) += inflow_a_[s] * kt * u;
+      s2.col(b[s]) -= inflow_b_[s] * kt * u;
+    }
+  }
+  if (disperse) {
+    for (int i = 0; i < n; ++i) {
+      diagonal.col(i) += inverse_star_weight_[i] * s1.col(i).cwiseProduct(s2.col(i));
+    }
+  }
+  // Correction: at a node, an edge along one axis responds to the elongation of the element's
+  // edges along the other axes through the same node: c sum w_f w_e over such pairs (f, e), with
+  // w pointing away from the node.
+  const auto& edges = model_->correction_edges();
+  for (std::size_t e = 0; e < edges.size(); ++e) {
+    for (int f = 0; f < 12; ++f) {
+      for (int g = 0; g < 12; ++g) {
+        if (f / 4 == g / 4) continue;
+        const SpringIndex sf = edges[e][f];
+        const SpringIndex sg = edges[e][g];
+        for (const NodeIndex node : {a[sf], b[sf]}) {
+          if (node != a[sg] && node != b[sg]) continue;
+          const Eigen::Vector3d wf = (node == a[sf] ? 1.0 : -1.0) * directions_.col(sf);
+          const Eigen::Vector3d wg = (node == a[sg] ? 1.0 : -1.0) * directions_.col(sg);
+          diagonal.col(node) += model_->correction_coefficients()[e] * wf.cwiseProduct(wg);
+        }
+      }
+    }
+  }
+  return diagonal;
+}
+
+}  // namespace msm_sim::core
