@@ -199,14 +199,88 @@ class World {
     std::vector<ContactWrench> wrenches;  // colliders, then groups (of the last Step)
   };
 
+  // Where a Step started, for a rejected one to return to (bodies keep their own saved states).
+  struct StepStart {
+    std::vector<Eigen::Isometry3d> collider_poses;
+    double time = 0.0;
+  };
+  // One substep's contact records (defined in world_contacts.cpp).
+  struct ColliderFrame;  // a collider's inverse pose and bounds, for detection
+  struct NodeContact;    // a node touching a collider
+  struct PairContact;    // two nodes touching
+
+  // Step's stages (world_step.cpp).
+  /// Copies every body's state and pending responses into its buffers; returns the rest.
+  StepStart SaveForRollback();
+  /// Zeroes what a Step accumulates: impulses, microcollisions, each body's fastest node.
+  void ClearStepRecords();
+  /// Runs `count` substeps of h (s); returns the first problem CheckSane finds, empty if none.
+  std::string RunSubsteps(int count, double h, const std::vector<Eigen::Isometry3d>& start_poses);
+  /// Restores what SaveForRollback saved and drops the pushes; returns whether there were any.
+  bool RollBack(const StepStart& start);
+  /// Ends an accepted Step of dt (s): time, collider poses, pushes, wrenches.
+  void FinishStep(double dt, const StepStart& start);
+  /// Pushes for "one step" are done; timed ones count down by dt (s).
+  static void CountDownPushes(Body* body, double dt);
+  /// The last Step's wrenches: its impulses over dt (s), at the impulses' centroid.
+  static void TurnImpulsesIntoWrenches(Body* body, double dt);
+  /// Empty if every node is finite and no faster than max_speed, else why not.
+  std::string CheckSane() const;
+
+  // Substep: the seven stages of the class comment; a substep of h (s) from t0 = time_ + step_time.
   void Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time);
+  /// 1. x += h/2 v; kinematic nodes go where their frames are at t0 + h/2.
+  void DriftHalf(Body* body, double h, double t0) const;
+  /// 2. v += the restitution left over from the last substep's contacts.
+  static void ApplyPendingRestitution(Body* body);
+  /// 3. Springs, dampers and pushes into body->forces (gravity comes with the kick).
+  static void ComputeForces(Body* body);
+  /// 4. v += h (F / m + g), for every node. Precondition: ComputeForces for this substep.
+  void Kick(Body* body, double h) const;
+  /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
+  void DriveKinematicGroups(Body* body, double h, double t0) const;
+  /// 5-6. Colliders at mid-substep; every contact stops approaching, its rebound pending.
+  void ResolveContacts(double h, const std::vector<Eigen::Isometry3d>& start_poses,
+                       double step_time);
+  /// 7. x += h/2 v, noting the fastest node; kinematic nodes at their frames at t0 + h.
+  void DriftHalfNotingFastest(Body* body, double h, double t0) const;
+
+  // Contacts (world_contacts.cpp). Precondition: the impulses are sized (ClearStepRecords).
+  /// Stops every approach of body's free border nodes towards the colliders, with friction.
   void CollideWithColliders(Body* body, int* microcollisions);
+  /// Each collider's inverse pose and bounds (computed once per body and substep).
+  std::vector<ColliderFrame> FrameColliders() const;
+  /// Replaces *contacts with the enabled colliders a node at x with this radius (m) touches.
+  /// Precondition: frames from FrameColliders for the colliders' current poses.
+  void DetectColliderContacts(const std::vector<ColliderFrame>& frames, const Eigen::Vector3d& x,
+                              double radius, std::vector<NodeContact>* contacts) const;
+  /// Up to contact_iterations Gauss-Seidel sweeps taking each contact's approach out of *v.
+  void StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Vector3d* v) const;
+  /// Friction into *v, the rebound pending, the impulse recorded. Precondition: stopped > 0.
+  void RespondToColliderContact(Body* body, NodeIndex node, const NodeContact& contact,
+                                Eigen::Vector3d* v) const;
+  /// Stops every approach between touching border nodes (of two bodies, or a folded one).
   void CollideNodes(int* microcollisions);
+  /// The touching pairs of border nodes, found with a spatial hash.
+  std::vector<PairContact> FindTouchingPairs();
+  /// Whether nodes i and j of one body may touch: only if it folds (see self_collision).
+  static bool MayTouchItself(const Body& body, NodeIndex i, NodeIndex j);
+  /// Adds the pair if |d| = |x_i - x_j| (m) is below reach (m) and one of them may move.
+  static void AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex j,
+                                const Eigen::Vector3d& d, double reach,
+                                std::vector<PairContact>* pairs);
+  /// Up to contact_iterations Gauss-Seidel sweeps taking every pair's approach out.
+  void StopPairApproaches(std::vector<PairContact>* pairs) const;
+  /// Friction between the pair's nodes, their rebound pending. Precondition: stopped > 0.
+  static void RespondToPairContact(const PairContact& pair);
+  /// Coulomb coefficient of a body against a collider: the pair's, or sqrt(mu_body mu_collider).
+  double Friction(const Body& body, int collider) const;
+
+  // Bookkeeping (world.cpp).
+  /// The group's frame at time t (s): its pose function's, or the pose it was added with.
   Eigen::Isometry3d GroupPose(const Group& group, double t) const;
   /// Puts a body's kinematic nodes where their frames are at time t.
   void PlaceGroups(Body* body, double t) const;
-  double Friction(const Body& body, int collider) const;
-  std::string CheckSane() const;
   int microcollisions_ = 0;
 
   WorldOptions options_;

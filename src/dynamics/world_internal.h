@@ -1,0 +1,18 @@
+#pragma once
+// Private to msm_sim's World (world.cpp, world_step.cpp): the argument checks its API and its Step
+// share.
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace msm_sim::core::internal {
+
+/// Throws std::invalid_argument with `message` unless `condition` holds.
+inline void Require(bool condition, const std::string& message) {
+  if (!condition) throw std::invalid_argument(message);
+}
+
+inline bool Finite(double value) { return std::isfinite(value); }
+
+}  // namespace msm_sim::core::internal
