@@ -8,6 +8,7 @@
 #include <sensor_msgs/point_cloud2_iterator.h>
 
 #include "conversions.h"
+#include "msm_sim/model/body_frame.h"
 
 namespace msm_sim::ros_interface {
 namespace {
@@ -139,30 +140,14 @@ sensor_msgs::PointCloud2 Simulation::NodeCloud(const ros::Time& stamp) const {
 std::vector<geometry_msgs::TransformStamped> Simulation::Frames(const ros::Time& stamp) const {
   std::vector<geometry_msgs::TransformStamped> frames;
   for (const Object& object : objects_) {
-    const core::Model& model = world_.model(object.body);
-    const Eigen::VectorXd& m = model.masses();
-    const Eigen::Matrix3Xd& x = world_.state(object.body).positions;
-    const Eigen::Matrix3Xd& rest = model.rest_positions();
-    const Eigen::Vector3d centre = x * m / m.sum();
-    const Eigen::Vector3d rest_centre = rest * m / m.sum();
-    // The body's rotation: the rotation part of the best affine fit rest -> current (the polar
-    // decomposition of sum m (x - c)(X - C)^T).
-    const Eigen::Matrix3d covariance =
-        (x.colwise() - centre) * m.asDiagonal() * (rest.colwise() - rest_centre).transpose();
-    const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance,
-                                                Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d rotation = svd.matrixU() * svd.matrixV().transpose();
-    if (rotation.determinant() < 0.0) {
-      Eigen::Matrix3d flip = Eigen::Matrix3d::Identity();
-      flip(2, 2) = -1.0;
-      rotation = svd.matrixU() * flip * svd.matrixV().transpose();
-    }
+    const Eigen::Isometry3d frame =
+        core::BodyFrame(world_.model(object.body), world_.state(object.body));
     geometry_msgs::TransformStamped transform;
     transform.header.stamp = stamp;
     transform.header.frame_id = config_.world.frame;
     transform.child_frame_id = object.config.name;
-    transform.transform.translation = ToVector(centre);
-    const Eigen::Quaterniond q(rotation);
+    transform.transform.translation = ToVector(frame.translation());
+    const Eigen::Quaterniond q(frame.linear());
     transform.transform.rotation.x = q.x();
     transform.transform.rotation.y = q.y();
     transform.transform.rotation.z = q.z();
