@@ -1,7 +1,7 @@
 #pragma once
 // Private to msm_sim's lattice builders: the node-centred A+B cubic MSM of a set of occupied
 // lattice cells, shared by the box builder (every cell full) and the mesh builder (cells partly
-// inside the surface, SPEC.md §5 anti-aliasing).
+// inside the surface, docs/physics.md §5 anti-aliasing).
 
 #include <vector>
 

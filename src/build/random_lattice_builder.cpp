@@ -137,7 +137,7 @@ std::vector<NodePair> SpringPairs(const std::vector<Eigen::Vector3d>& points, co
   return pairs;
 }
 
-// The stiffness scale c of the calibration (SPEC.md §2-3): sum k_i L_i^2 = 15 V mu. With
+// The stiffness scale c of the calibration (docs/physics.md §2-3): sum k_i L_i^2 = 15 V mu. With
 // k_i = c / L_i^2 every spring contributes c, with uniform k_i = c every spring contributes
 // c L_i^2.
 double StiffnessScale(const Material& material, double volume, const std::vector<NodePair>& pairs,

@@ -7,7 +7,7 @@
 namespace msm_sim::core {
 
 /// Volume (m^3) of the part of the solid inside the axis-aligned box [lo, hi], by exact
-/// clipping (SPEC.md §5 "exact clipping"; anti-aliasing's chi = this / cell volume).
+/// clipping (docs/physics.md §5 "exact clipping"; anti-aliasing's chi = this / cell volume).
 ///
 /// Divergence theorem with the field (x - lo.x, 0, 0): the volume is the flux through the
 /// surface triangles clipped to the box, plus (hi.x - lo.x) times the area of the box's +x face

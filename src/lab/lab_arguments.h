@@ -27,7 +27,7 @@ struct ModelArguments {
   std::string dispersion = "two-pass";       ///< two-pass | one-pass
   std::string mesh;       ///< closed mesh file filling the body instead of the --size box
   double scale = 1.0;     ///< mesh coordinates times this are metres
-  bool antialias = true;  ///< mesh + cubic: SPEC.md §5 anti-aliasing
+  bool antialias = true;  ///< mesh + cubic: docs/physics.md §5 anti-aliasing
   int target_nodes = 0;   ///< > 0: choose the spacing for about this many nodes
 };
 

@@ -1,5 +1,5 @@
-// Acceptance tests of the calibrated models against linear elasticity (SPEC.md §2, §6; thesis
-// 3.2.2-3.2.6). Tolerances are those of the project's issue "Calibrated MSM core".
+// Acceptance tests of the calibrated models against linear elasticity (docs/physics.md §2, §6;
+// thesis 3.2.2-3.2.6). Tolerances are those of the project's issue "Calibrated MSM core".
 #include <algorithm>
 #include <cmath>
 #include <vector>

@@ -12,7 +12,7 @@ namespace {
 
 const Material kMaterial = Material::FromYoungsPoisson(2e5, 0.25, 1100.0);
 
-// Sum of k L^2 over all springs: 6 E V for a calibrated isotropic network (SPEC.md §2).
+// Sum of k L^2 over all springs: 6 E V for a calibrated isotropic network (docs/physics.md §2).
 double SumKL2(const Model& model) {
   double sum = 0.0;
   for (int s = 0; s < model.num_springs(); ++s) {
@@ -102,7 +102,7 @@ TEST(CubicLatticeBuilder, ElementCornerSumsElementContributions) {
                    0.25 * kappa);
   EXPECT_DOUBLE_EQ(StiffnessBetween(model, NodeAt(model, {0, 0, 0}), NodeAt(model, {1, 1, 1})),
                    0.0);  // no body diagonals in the A+B model
-  // Each element contributes exactly 15 kappa a^2 = 6 E a^3 (SPEC.md §2).
+  // Each element contributes exactly 15 kappa a^2 = 6 E a^3 (docs/physics.md §2).
   EXPECT_NEAR(SumKL2(model), 6.0 * 2e5 * 2.0, 1e-6);
 }
 

@@ -1,4 +1,4 @@
-// Acceptance tests of the extended MSM (any Poisson's ratio, SPEC.md §3) against linear
+// Acceptance tests of the extended MSM (any Poisson's ratio, docs/physics.md §3) against linear
 // elasticity; tolerances are those of the project's issue "Any Poisson's ratio".
 #include <vector>
 

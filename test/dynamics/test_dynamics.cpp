@@ -1,5 +1,5 @@
-// Acceptance tests of the dynamics (SPEC.md §7, thesis ch. 6; issue "Dynamics"): sliding with
-// dry friction, energy conservation, non-penetration, resting and pressing contacts, rejected
+// Acceptance tests of the dynamics (docs/physics.md §7, thesis ch. 6; issue "Dynamics"): sliding
+// with dry friction, energy conservation, non-penetration, resting and pressing contacts, rejected
 // steps.
 #include <algorithm>
 #include <cmath>

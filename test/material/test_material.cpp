@@ -14,7 +14,7 @@ TEST(Material, DerivesModuliFromYoungsAndPoisson) {
   EXPECT_NEAR(steel.bulk_modulus(), 210e9 / (3.0 * 0.4), 1.0);
   EXPECT_NEAR(steel.shear_modulus(), 210e9 / 2.6, 1.0);
   EXPECT_NEAR(steel.lame_lambda(), 210e9 * 0.3 / (1.3 * 0.4), 1.0);
-  // Round trip through the Lame constants (SPEC.md §1).
+  // Round trip through the Lame constants (docs/physics.md §1).
   const double mu = steel.shear_modulus();
   const double lambda = steel.lame_lambda();
   EXPECT_NEAR(mu * (3 * lambda + 2 * mu) / (lambda + mu), 210e9, 1e-3);

@@ -1,5 +1,5 @@
-// The spring laws (SPEC.md §4): names, tensions, stiffnesses and energies at lengths worked out
-// by hand.
+// The spring laws (docs/physics.md §4): names, tensions, stiffnesses and energies at lengths worked
+// out by hand.
 #include <cmath>
 #include <string>
 

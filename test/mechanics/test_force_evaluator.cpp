@@ -170,7 +170,8 @@ INSTANTIATE_TEST_SUITE_P(Laws, ForceEvaluatorLaws,
                          ::testing::Values(SpringLaw::kLinear, SpringLaw::kNonlinear));
 
 TEST(ForceEvaluator, DispersionAddsQTimesTheDirectBulkResponse) {
-  // SPEC.md §3: under uniform dilatation eps, sum over springs of t*_n L0_n = 2 q sum k L0^2 eps.
+  // docs/physics.md §3: under uniform dilatation eps, sum over springs of t*_n L0_n = 2 q sum k
+  // L0^2 eps.
   const Model model = RandomModel(0.4, SpringLaw::kLinear);
   const double q = model.dispersion_fraction();
   EXPECT_NEAR(q, 0.5 * DispersionRatio(0.4), 1e-15);

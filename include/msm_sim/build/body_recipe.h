@@ -16,7 +16,7 @@
 
 namespace msm_sim::core {
 
-/// The lattices a body can be built from (SPEC.md §2, thesis 2.3): the cubic A+B lattice
+/// The lattices a body can be built from (docs/physics.md §2, thesis 2.3): the cubic A+B lattice
 /// (BuildCubicLattice, BuildCubicLatticeInSolid), the random lattice (BuildRandomLattice,
 /// BuildRandomLatticeInSolid) and Baudet's bricks (BuildBaudetLattice).
 enum class LatticeKind { kCubic, kRandom, kBaudet };
@@ -78,7 +78,7 @@ struct BodyRecipe {
   double rotation_angle = 0.0;
   /// Cubic: node-centred (default) or element-corner; a solid takes node-centred only.
   CubicConstruction construction = CubicConstruction::kNodeCentred;
-  /// Cubic in a solid: SPEC.md §5 anti-aliasing (cells weighted by the fraction inside the
+  /// Cubic in a solid: docs/physics.md §5 anti-aliasing (cells weighted by the fraction inside the
   /// surface). Default on.
   bool antialias = true;
   /// Random: the random sequential addition's seed; same seed, same model. Default 1.

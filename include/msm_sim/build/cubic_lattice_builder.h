@@ -8,7 +8,7 @@
 
 namespace msm_sim::core {
 
-/// How a cubic lattice represents the body (SPEC.md §2.1, thesis 2.3.2 and 3.2.6).
+/// How a cubic lattice represents the body (docs/physics.md §2.1, thesis 2.3.2 and 3.2.6).
 enum class CubicConstruction {
   /// One node per cell, at the cell centre (0.5 a inside the surface), mass rho a^3, A+B springs
   /// of stiffness kappa = 0.4 E a. Bends correctly at any resolution (preferred).
@@ -35,9 +35,9 @@ struct CubicLatticeOptions {
 };
 
 /// Builds a calibrated A+B cubic lattice MSM of the box for `material`, as an extended MSM
-/// (SPEC.md §3): springs kappa = mu a, which alone make a Cauchy solid with the target shear
-/// modulus, and dispersion fraction q = Q(nu) / 2 for the rest of the bulk modulus. At nu = 1/4,
-/// q = 0 and kappa = 0.4 E a: the plain MSM of SPEC.md §2.1.
+/// (docs/physics.md §3): springs kappa = mu a, which alone make a Cauchy solid with the target
+/// shear modulus, and dispersion fraction q = Q(nu) / 2 for the rest of the bulk modulus. At nu =
+/// 1/4, q = 0 and kappa = 0.4 E a: the plain MSM of docs/physics.md §2.1.
 ///
 /// Node-centred surface compensation: a node on the surface misses the springs to the cells
 /// outside the body. Each such spring would have half its length inside the body (the node sits

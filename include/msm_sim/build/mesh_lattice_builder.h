@@ -17,8 +17,8 @@ struct MeshCubicLatticeOptions {
   /// with an even number, so that an aligned box of whole cells is tiled exactly.
   Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
   double rotation_angle = 0.0;  ///< rad
-  /// SPEC.md §5 anti-aliasing: each cell's mass and springs scale with the fraction chi of its
-  /// volume inside the surface, computed by exact clipping (VolumeInsideBox). Off: a cell is a
+  /// docs/physics.md §5 anti-aliasing: each cell's mass and springs scale with the fraction chi of
+  /// its volume inside the surface, computed by exact clipping (VolumeInsideBox). Off: a cell is a
   /// full node if its centre is inside, else nothing.
   bool antialias = true;
   /// Cells with chi below this are dropped (thesis: 0.1): arbitrarily light nodes and weak
@@ -30,7 +30,7 @@ struct MeshCubicLatticeOptions {
   int max_nodes = 2'000'000;
 };
 
-/// Builds the calibrated node-centred A+B cubic MSM of the solid (SPEC.md §2.1, §3 and §5):
+/// Builds the calibrated node-centred A+B cubic MSM of the solid (docs/physics.md §2.1, §3 and §5):
 /// nodes at the centres of the lattice cells that are (partly) inside, m = rho a^3 chi,
 /// k = (mu a / 2)(chi_i + chi_j), eMSM dispersion for the material's nu. The model volume is
 /// a^3 sum chi (about the mesh volume, less the dropped slivers).

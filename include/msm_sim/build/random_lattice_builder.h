@@ -11,7 +11,7 @@
 
 namespace msm_sim::core {
 
-/// How spring stiffness varies with rest length in a random lattice (SPEC.md §2).
+/// How spring stiffness varies with rest length in a random lattice (docs/physics.md §2).
 enum class RandomStiffnessLaw {
   kUniform,        ///< every spring has the same k
   kInverseSquare,  ///< k_i = c / L_i^2: every spring contributes equally to the moduli
@@ -38,8 +38,8 @@ struct RandomLatticeOptions {
 /// Builds a calibrated random MSM of the box: N = round(V / l^3) points at least minL apart
 /// (spatial-hash rejection), a spring between every pair closer than maxL, node mass rho V / N,
 /// and stiffnesses scaled so that sum k_i L_i^2 = 15 V mu, a Cauchy solid with the target shear
-/// modulus, plus the eMSM dispersion q = Q(nu) / 2 (SPEC.md §2-3; at nu = 1/4 this is the plain
-/// calibration (1 / (6V)) sum k_i L_i^2 = E).
+/// modulus, plus the eMSM dispersion q = Q(nu) / 2 (docs/physics.md §2-3; at nu = 1/4 this is the
+/// plain calibration (1 / (6V)) sum k_i L_i^2 = E).
 ///
 /// Throws std::invalid_argument for bad options (non-positive sizes, spacing larger than the box,
 /// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place

@@ -8,7 +8,7 @@
 
 namespace msm_sim::core {
 
-/// The nodes that carry collision spheres (SPEC.md §7 "microcollisions") and their radii.
+/// The nodes that carry collision spheres (docs/physics.md §7 "microcollisions") and their radii.
 struct BorderNodes {
   std::vector<NodeIndex> nodes;
   std::vector<double> radii;  ///< m, the mean half-length of the node's springs

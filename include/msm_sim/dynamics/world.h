@@ -19,7 +19,7 @@ namespace msm_sim::core {
 
 /// How a body moves, besides its Model (which fixes masses and springs).
 struct BodyOptions {
-  double damping_beta = 0.0;  ///< s: spring dampers c = beta k (SPEC.md §7)
+  double damping_beta = 0.0;  ///< s: spring dampers c = beta k (docs/physics.md §7)
   double friction = 0.5;      ///< Coulomb coefficient of the body's surface
   double restitution = 1.0;   ///< e in [0, 1] for contacts between MSM nodes
   DispersionPasses dispersion = DispersionPasses::kTwoPass;
@@ -72,7 +72,7 @@ struct KinematicGroup {
 
 /// The simulation: any number of MSM bodies, each an immutable Model (the analogue of MuJoCo's
 /// mjModel) with its mutable State (mjData), and the rigid colliders they touch, advanced by
-/// SPEC.md §7's position Verlet with the split microcollision response:
+/// docs/physics.md §7's position Verlet with the split microcollision response:
 ///
 ///   1. x += dt/2 v            4. v += dt F / m
 ///   2. pending restitution    5. detect contacts, compute their velocity changes

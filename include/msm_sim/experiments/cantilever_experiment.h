@@ -9,7 +9,8 @@
 
 namespace msm_sim::core {
 
-/// The deflection experiment of SPEC.md §6 / thesis 3.2.6 on a bar [0, L] x [0, W] x [0, H].
+/// The deflection experiment of docs/physics.md §6 / thesis 3.2.6 on a bar [0, L] x [0, W] x [0,
+/// H].
 struct CantileverExperimentOptions {
   Eigen::Vector3d body_size = Eigen::Vector3d(4.0, 1.0, 1.0);  ///< m
   double total_force = 1.0;  ///< N, applied in -z, shared equally by the end nodes

@@ -7,7 +7,7 @@
 
 namespace msm_sim::core {
 
-/// The uniaxial compression experiment of SPEC.md §6 / thesis 3.2.1 on a block [0, size]
+/// The uniaxial compression experiment of docs/physics.md §6 / thesis 3.2.1 on a block [0, size]
 /// (below, x stands for the compressed axis and y, z for the other two).
 struct CompressionExperimentOptions {
   Eigen::Vector3d body_size = Eigen::Vector3d::Ones();  ///< m; the block the model fills
@@ -48,7 +48,8 @@ CompressionExperimentResult RunCompressionExperiment(const Model& model,
 
 /// Poisson's ratio from a stress and a strain measured at one point, exact for isotropic linear
 /// elasticity: nu = (e_xx s_yy - e_yy s_xx) / (e_xx (s_xx + s_zz) - e_yy (s_yy + s_zz)).
-/// (SPEC.md §6 prints the denominator with s_yy and s_zz swapped; both agree when s_yy = s_zz.)
+/// (docs/physics.md §6 derives it; the formula printed in the eMSM paper, eq. 29, is not this
+/// inversion: under uniaxial stress it returns nu / (1 + nu).)
 double StressCorrectedPoisson(const Eigen::Matrix3d& strain, const Eigen::Matrix3d& stress);
 
 }  // namespace msm_sim::core

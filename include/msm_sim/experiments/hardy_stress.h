@@ -6,7 +6,7 @@
 
 namespace msm_sim::core {
 
-/// Hardy's stress estimate at `point` (SPEC.md §6, thesis 3.1.2): with a spherical probe of
+/// Hardy's stress estimate at `point` (docs/physics.md §6, thesis 3.1.2): with a spherical probe of
 /// radius R and volume V_p = 4/3 pi R^3,
 ///   sigma = (1 / V_p) sum_s t_s (r_s ⊗ r̂_s) B_s,
 /// r_s the current spring vector, t_s its tension (> 0 stretched) and B_s the fraction of the

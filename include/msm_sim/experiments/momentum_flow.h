@@ -12,9 +12,9 @@ struct MaterialPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitX();  ///< unit length
 };
 
-/// Momentum flow through a material plane (SPEC.md §6): the force that the springs crossing the
-/// plane transmit, sum_s t_s r̂_s with r̂_s oriented towards the +normal side (tension > 0).
-/// Its normal component is sigma_nn times the cross-section area (negative in compression).
+/// Momentum flow through a material plane (docs/physics.md §6): the force that the springs crossing
+/// the plane transmit, sum_s t_s r̂_s with r̂_s oriented towards the +normal side (tension > 0). Its
+/// normal component is sigma_nn times the cross-section area (negative in compression).
 ///
 /// The plane cuts the node set by rest position (n·(x0 - p) >= 0 is the + side), so the result is
 /// exactly the force one part of the body exerts on the other, even when nodes lie on the plane.

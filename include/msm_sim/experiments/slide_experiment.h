@@ -9,7 +9,7 @@
 namespace msm_sim::core {
 
 /// Thesis 6.4: a body slides on a plane with Coulomb friction from an initial speed and stops
-/// after v0^2 / (2 mu g), whatever its resolution, contact area or shape (SPEC.md §7).
+/// after v0^2 / (2 mu g), whatever its resolution, contact area or shape (docs/physics.md §7).
 struct SlideExperimentOptions {
   double initial_speed = 1.0;  ///< v0 (m/s) along +x, > 0
   double friction = 0.5;       ///< mu between the body and the ground, > 0

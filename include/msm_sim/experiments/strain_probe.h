@@ -7,7 +7,7 @@
 
 namespace msm_sim::core {
 
-/// Strain at a point from node displacements (SPEC.md §6, thesis 3.1.1).
+/// Strain at a point from node displacements (docs/physics.md §6, thesis 3.1.1).
 ///
 /// The rest positions are tetrahedralised once (CGAL Delaunay); the displacement anywhere inside
 /// their convex hull is the barycentric interpolation of the nodes of the enclosing tetrahedron,

@@ -7,7 +7,7 @@ namespace msm_sim::core {
 /// Isotropic linear-elastic material in SI units (Pa, -, kg/m^3).
 ///
 /// Immutable once created; the factory validates its input so that every
-/// Material in the program is physically admissible (SPEC.md §1):
+/// Material in the program is physically admissible (docs/physics.md §1):
 /// E > 0, -1 < nu < 1/2, rho > 0, all finite.
 class Material {
  public:

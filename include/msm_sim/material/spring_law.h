@@ -5,7 +5,7 @@
 
 namespace msm_sim::core {
 
-/// How a spring's tension depends on its length (SPEC.md §4). Both laws have the same
+/// How a spring's tension depends on its length (docs/physics.md §4). Both laws have the same
 /// small-strain stiffness k, so calibration does not depend on the choice.
 enum class SpringLaw {
   /// Hooke: t = k (L - L0). Finite force at L = 0, so a strongly compressed network can invert.

@@ -8,7 +8,7 @@
 
 namespace msm_sim::core {
 
-/// How a force evaluation computes the eMSM momentum dispersion (SPEC.md §3).
+/// How a force evaluation computes the eMSM momentum dispersion (docs/physics.md §3).
 enum class DispersionPasses {
   /// Exact: a second loop over the springs redistributes this evaluation's accumulators.
   kTwoPass,
@@ -19,7 +19,7 @@ enum class DispersionPasses {
 
 /// Internal forces of a Model: spring tensions under the model's spring law plus, for an eMSM,
 /// the dispersed tensions t*_n = (J_a / b_a + J_b / b_b) / L0_n with J_x = q sum L0_i t_i over the
-/// springs at node x (SPEC.md §3). With the model's dispersion weights v (Model::
+/// springs at node x (docs/physics.md §3). With the model's dispersion weights v (Model::
 /// dispersion_weight_a) a node accumulates J = q sum v L0 t and spring n receives w_n J / W with
 /// w = v k L0^2 and W = sum w, which makes the dispersion conservative; equal v and equal k L0^2
 /// is the paper's algorithm. Baudet correction elements (Model::correction_edges) add their
@@ -34,7 +34,7 @@ class ForceEvaluator {
 
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
-  /// The same plus spring dampers (SPEC.md §7): every spring also carries the tension
+  /// The same plus spring dampers (docs/physics.md §7): every spring also carries the tension
   /// c (v_b - v_a) . u with c = damping_beta k (s), u the unit vector a -> b; it is part of
   /// total_tensions. Precondition: velocities is 3 x N, damping_beta >= 0.
   void AccumulateForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
@@ -54,8 +54,9 @@ class ForceEvaluator {
 
   /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness.
   void Linearize(const Eigen::Matrix3Xd& positions);
-  /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric only
-  /// without dispersion. Precondition: Linearize was called; v and out are 3 x N.
+  /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric except
+  /// for carrier springs with dispersion (stiffness_is_symmetric). Precondition: Linearize was
+  /// called; v and out are 3 x N.
   void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The diagonal of K (3 x N) at the last Linearize, exact.
   Eigen::Matrix3Xd StiffnessDiagonal() const;

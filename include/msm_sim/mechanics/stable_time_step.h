@@ -14,13 +14,13 @@ struct StableTimeStepOptions {
   double min_compression = 0.7;
 };
 
-/// Largest stable step (s) of the explicit integration of `model` (SPEC.md §7).
+/// Largest stable step (s) of the explicit integration of `model` (docs/physics.md §7).
 ///
 /// Position Verlet is stable while dt <= 2 / omega_max; with dampers of ratio
 /// zeta = beta omega_max / 2 the limit shrinks to (2 / omega_max)(sqrt(1 + zeta^2) - zeta).
 /// omega_max^2 is the largest eigenvalue of M^-1/2 K M^-1/2 at rest, found from the exact
 /// stiffness, so it counts the eMSM dispersion, Baudet's correction and any mass distribution;
-/// SPEC's estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which at nu = 0.49
+/// the per-node estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which at nu = 0.49
 /// stiffens the bulk mode 7-fold. Where K is symmetric (no dispersion, or linear springs with
 /// it) the eigenvalue is the largest Rayleigh-Ritz value on a Krylov (Lanczos) basis of up to 60
 /// vectors, which converges in a few dozen products even where the top of the spectrum is

@@ -41,9 +41,9 @@ class Model {
   const std::vector<double>& spring_rest_length() const { return spring_rest_length_; }
   /// Linear stiffnesses (N/m).
   const std::vector<double>& spring_stiffness() const { return spring_stiffness_; }
-  /// eMSM dispersion weight v of each spring at its end node a (resp. b), SPEC.md §3 generalised:
-  /// node x accumulates J_x = q sum_n v_n L0_n t_n and spring n receives w_n J_x / W_x of it,
-  /// with w_n = v_n k_n L0_n^2 and W_x = sum of w over x's springs. That choice makes the
+  /// eMSM dispersion weight v of each spring at its end node a (resp. b), docs/physics.md §3
+  /// generalised: node x accumulates J_x = q sum_n v_n L0_n t_n and spring n receives w_n J_x / W_x
+  /// of it, with w_n = v_n k_n L0_n^2 and W_x = sum of w over x's springs. That choice makes the
   /// dispersion the gradient of Phi = sum_x J_x^2 / (2 q W_x), so the stiffness stays symmetric
   /// (the paper's equal shares are not when k L0^2 differs between springs, as between the A and
   /// B springs of a cubic lattice, and the undamped dynamics then flutters). All v = 1 with equal
@@ -62,7 +62,7 @@ class Model {
 
   /// Tension law shared by every spring.
   SpringLaw spring_law() const { return spring_law_; }
-  /// eMSM dispersion fraction q (SPEC.md §3); 0 for a plain MSM (nu = 1/4).
+  /// eMSM dispersion fraction q (docs/physics.md §3); 0 for a plain MSM (nu = 1/4).
   double dispersion_fraction() const { return dispersion_fraction_; }
 
   /// Baudet et al.'s orthogonal correction (docs/baudet_derivation.md). Each correction element
@@ -80,7 +80,7 @@ class Model {
   /// Volume of the body the model represents (m^3); used by calibration and measurements.
   double volume() const { return volume_; }
   /// Characteristic node spacing ã (m): the lattice spacing of a cubic lattice or l = (V/N)^(1/3)
-  /// of a random one. Measurements scale their probes with it (SPEC.md §6).
+  /// of a random one. Measurements scale their probes with it (docs/physics.md §6).
   double characteristic_length() const { return characteristic_length_; }
 
  private:

@@ -4,7 +4,8 @@
 
 namespace msm_sim::core {
 
-/// Summary figures every builder reports (SPEC.md §2.2): counts, spring connectivity and lengths.
+/// Summary figures every builder reports (docs/physics.md §2.2): counts, spring connectivity and
+/// lengths.
 struct ModelStatistics {
   int nodes = 0;
   int springs = 0;
