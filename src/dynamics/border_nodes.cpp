@@ -1,6 +1,7 @@
 #include "msm_sim/dynamics/border_nodes.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include <Eigen/Core>
@@ -35,6 +36,19 @@ double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& 
     lowest = std::min(lowest, positions(2, border.nodes[k]) - border.radii[k]);
   }
   return lowest;
+}
+
+double SphereTouchdownHeight(const Eigen::Matrix3Xd& positions, const BorderNodes& border,
+                             const Eigen::Vector2d& axis, double radius) {
+  double height = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    const Eigen::Vector3d p = positions.col(border.nodes[k]);
+    const double reach = radius + border.radii[k];  // centre distance at touch
+    const double horizontal_sq = (p.head<2>() - axis).squaredNorm();
+    if (horizontal_sq >= reach * reach) continue;
+    height = std::max(height, p.z() + std::sqrt(reach * reach - horizontal_sq));
+  }
+  return height;
 }
 
 }  // namespace msm_sim::core

@@ -1,6 +1,7 @@
 #include "lab_arguments.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -13,15 +14,20 @@ namespace msm_sim::lab {
 namespace {
 
 constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
-                                     "slide"};
+                                     "slide",       "realtime",   "indent"};
 
 // Which body a command accepts and which options it insists on.
 enum class Body {
-  kBox,         // --size, required
-  kBoxOrMesh,   // --size or --mesh, one of them required
-  kMesh,        // --mesh, required
-  kDefaultBox,  // --size optional (poisson-sweep has defaults)
+  kBox,           // --size, required
+  kBoxOrMesh,     // --size or --mesh, one of them required
+  kMesh,          // --mesh, required
+  kDefaultBox,    // --size optional (poisson-sweep has defaults)
+  kBlock,         // --size required, --model optional (cubic): indent
+  kDefaultBlock,  // --size, --model, --youngs, --density optional (the block): realtime
 };
+
+// The sphere commands' model options: --model defaults to cubic.
+bool ModelOptional(Body body) { return body == Body::kBlock || body == Body::kDefaultBlock; }
 
 // What CLI11 fills in besides LabArguments: vectors it checks the length of, copied into the
 // arguments' Eigen vectors once parsed, and the commands, to ask which one was parsed.
@@ -36,6 +42,8 @@ struct CommandLine {
   CLI::App* sweep = nullptr;
   CLI::App* build = nullptr;
   CLI::App* slide = nullptr;
+  CLI::App* realtime = nullptr;
+  CLI::App* indent = nullptr;
 };
 
 // --size and/or --mesh with its --scale and --antialias; returns --size (nullptr for kMesh).
@@ -44,7 +52,7 @@ CLI::Option* AddBodyOptions(CLI::App* command, ModelArguments* model, std::vecto
   CLI::Option* size_option = nullptr;
   if (body != Body::kMesh) {
     size_option = command->add_option("--size", *size, "body size LX LY LZ (m)")->expected(3);
-    if (body == Body::kBox) size_option->required();
+    if (body == Body::kBox || body == Body::kBlock) size_option->required();
   }
   if (body != Body::kBoxOrMesh && body != Body::kMesh) return size_option;
   auto* mesh_option = command->add_option(
@@ -71,7 +79,7 @@ void AddSpacingOptions(CLI::App* command, ModelArguments* model, Body body) {
   auto* spacing_option =
       command->add_option("--spacing", model->spacing,
                           "lattice spacing a (m); for --model random the characteristic spacing l");
-  if (body == Body::kBox) spacing_option->required();
+  if (body == Body::kBox || ModelOptional(body)) spacing_option->required();
   if (body == Body::kBoxOrMesh || body == Body::kMesh) {
     command
         ->add_option("--target-nodes", model->target_nodes,
@@ -85,11 +93,12 @@ void AddSpacingOptions(CLI::App* command, ModelArguments* model, Body body) {
 void AddMaterialOptions(CLI::App* command, ModelArguments* model, Body body) {
   auto* youngs_option = command->add_option("--youngs", model->youngs, "Young's modulus E (Pa)");
   if (body != Body::kDefaultBox) {
-    youngs_option->required();
+    if (body != Body::kDefaultBlock) youngs_option->required();
     command->add_option("--poisson", model->poisson, "Poisson's ratio nu, in (-1, 0.5)")
         ->required();
   }
-  command->add_option("--density", model->density, "density (kg/m^3)")->capture_default_str();
+  auto* density_option = command->add_option("--density", model->density, "density (kg/m^3)");
+  if (body != Body::kDefaultBlock) density_option->capture_default_str();
 }
 
 // The options each lattice reads: construction and rotation (cubic), seed, distances and
@@ -123,11 +132,14 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
 // Options describing the model, in the order --help lists them.
 void AddModelOptions(CLI::App* command, CommandLine* line, Body body) {
   ModelArguments* model = &line->arguments.model;
-  command
-      ->add_option("--model", model->model,
-                   "cubic | random | baudet (eMSM lattices, or Baudet's bricks with correction)")
-      ->required()
-      ->check(CLI::IsMember(core::LatticeKindNames()));
+  auto* model_option =
+      command
+          ->add_option(
+              "--model", model->model,
+              "cubic | random | baudet (eMSM lattices, or Baudet's bricks with correction)")
+          ->check(CLI::IsMember(core::LatticeKindNames()));
+  model_option->required(!ModelOptional(body));
+  if (ModelOptional(body)) model_option->capture_default_str();
   AddBodyOptions(command, model, &line->size, body);
   AddSpacingOptions(command, model, body);
   AddMaterialOptions(command, model, body);
@@ -193,6 +205,58 @@ void AddSlideCommand(CLI::App* app, CommandLine* line) {
   slide->add_flag("--json", line->arguments.json, "print one JSON object");
 }
 
+// A finite number > 0 (or >= 0): CLI11's PositiveNumber would print its range up to DBL_MAX.
+CLI::Validator Finite(bool zero_allowed) {
+  const char* requirement = zero_allowed ? "must be finite and >= 0" : "must be finite and > 0";
+  return CLI::Validator(
+      [zero_allowed, requirement](std::string& text) -> std::string {
+        double value = 0.0;
+        const bool number = CLI::detail::lexical_cast(text, value) && std::isfinite(value);
+        return number && (value > 0.0 || (zero_allowed && value == 0.0)) ? "" : requirement;
+      },
+      zero_allowed ? "NONNEGATIVE" : "POSITIVE");
+}
+
+// --sphere-radius and --damping of the sphere commands (realtime, indent).
+void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
+  command->add_option("--sphere-radius", contact->sphere_radius, "rigid sphere's radius (m)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  command->add_option("--damping", contact->damping, "spring dampers beta, c = beta k (s)")
+      ->capture_default_str()
+      ->check(Finite(true));
+}
+
+void AddSphereCommands(CLI::App* app, CommandLine* line) {
+  ContactArguments& contact = line->arguments.contact;
+  CLI::App* realtime = line->realtime = app->add_subcommand(
+      "realtime",
+      "wall time per simulated second of the dynamics (explicit integrator: 1 ms steps in stable "
+      "substeps): a block on the ground, a rigid sphere pressing into the middle of its top at "
+      "1 cm/s; defaults: 0.1 x 0.1 x 0.05 m, E 2e5 Pa, density 1100 kg/m^3");
+  AddModelOptions(realtime, line, Body::kDefaultBlock);
+  AddSphereOptions(realtime, &contact);
+  realtime->add_option("--seconds", contact.seconds, "simulated time (s)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  realtime->add_flag("--json", line->arguments.json, "print one JSON object");
+
+  CLI::App* indent = line->indent = app->add_subcommand(
+      "indent",
+      "a rigid sphere pressed into the middle of the top of a block clamped at its base, force "
+      "against Hertz's (explicit integrator, 1 ms steps, no gravity)");
+  AddModelOptions(indent, line, Body::kBlock);
+  AddSphereOptions(indent, &contact);
+  indent->get_option("--sphere-radius")->required();
+  indent->add_option("--depth", contact.depth, "indentation past first contact (m)")
+      ->required()
+      ->check(Finite(false));
+  indent->add_option("--speed", contact.speed, "the sphere's speed, down (m/s)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  indent->add_flag("--json", line->arguments.json, "print one JSON object");
+}
+
 ParseOutcome Failure(const std::string& message) {
   ParseOutcome outcome;
   outcome.message = message;
@@ -230,6 +294,14 @@ void ApplySweepDefaults(CommandLine* line) {
   if (model.youngs == 0.0) model.youngs = 1e5;
 }
 
+// realtime's defaults (see its help): the block.
+void ApplyRealtimeDefaults(CommandLine* line) {
+  ModelArguments& model = line->arguments.model;
+  if (line->size.empty()) line->size = {0.1, 0.1, 0.05};
+  if (line->realtime->get_option("--youngs")->count() == 0) model.youngs = 2e5;
+  if (line->realtime->get_option("--density")->count() == 0) model.density = 1100.0;
+}
+
 // The parsed command, with the checked vectors copied into the arguments.
 LabArguments ParsedArguments(CommandLine* line) {
   LabArguments& arguments = line->arguments;
@@ -247,6 +319,11 @@ LabArguments ParsedArguments(CommandLine* line) {
     arguments.command = LabCommand::kBuild;
   } else if (line->deflection->parsed()) {
     arguments.command = LabCommand::kDeflection;
+  } else if (line->realtime->parsed()) {
+    arguments.command = LabCommand::kRealtime;
+    ApplyRealtimeDefaults(line);
+  } else if (line->indent->parsed()) {
+    arguments.command = LabCommand::kIndent;
   } else {
     arguments.command = LabCommand::kPoissonSweep;
     ApplySweepDefaults(line);
@@ -270,10 +347,12 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   AddStaticCommands(&app, &line);
   AddBuildCommand(&app, &line);
   AddSlideCommand(&app, &line);
+  AddSphereCommands(&app, &line);
 
   if (IsUnknownCommand(argv)) {
     return Failure("unknown command '" + argv[1] +
-                   "' (expected compression, deflection, poisson-sweep, build or slide)");
+                   "' (expected compression, deflection, poisson-sweep, build, slide, realtime or "
+                   "indent)");
   }
   // CLI11 wants argv without the program name, in reverse order.
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());

@@ -31,7 +31,15 @@ struct ModelArguments {
   int target_nodes = 0;   ///< > 0: choose the spacing for about this many nodes
 };
 
-enum class LabCommand { kCompression, kDeflection, kPoissonSweep, kBuild, kSlide };
+enum class LabCommand {
+  kCompression,
+  kDeflection,
+  kPoissonSweep,
+  kBuild,
+  kSlide,
+  kRealtime,
+  kIndent
+};
 
 /// `msm_lab slide`: a box of nodes sliding to a stop on the ground (thesis 6.4).
 struct SlideArguments {
@@ -44,6 +52,15 @@ struct SlideArguments {
   double poisson = 0.25;
 };
 
+/// `msm_lab realtime` and `msm_lab indent`: a rigid sphere pressed into the top of a block.
+struct ContactArguments {
+  double sphere_radius = 0.01;  ///< m (the demo robot's fingertip)
+  double damping = 1e-4;        ///< s, spring dampers c = beta k
+  double seconds = 0.5;         ///< realtime: simulated time, s
+  double depth = 0.0;           ///< indent: indentation past first contact, m
+  double speed = 0.005;         ///< indent: the sphere's speed, m/s
+};
+
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
@@ -54,6 +71,7 @@ struct LabArguments {
   std::string out;   ///< build: model file to write, empty for none
   std::string vtk;   ///< build: .vtu file to write, empty for none
   SlideArguments slide;
+  ContactArguments contact;
   bool json = false;
 };
 

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "lab_dynamics_commands.h"
 #include "lab_model.h"
 #include "lab_report.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
@@ -331,6 +332,10 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunBuild(arguments, out);
     case LabCommand::kSlide:
       return RunSlide(arguments, out);
+    case LabCommand::kRealtime:
+      return RunRealtime(arguments, out);
+    case LabCommand::kIndent:
+      return RunIndent(arguments, out);
   }
   return 1;
 }

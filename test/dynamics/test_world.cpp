@@ -1,6 +1,7 @@
 // Unit tests of the dynamics building blocks: collider shapes, dampers, the stable step,
 // border nodes, kinematic groups and their reactions, pushes.
 #include <cmath>
+#include <limits>
 #include <memory>
 
 #include <gtest/gtest.h>
@@ -123,6 +124,22 @@ TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
     EXPECT_GT(border.radii[k], 0.05);                        // half the A spring
     EXPECT_LT(border.radii[k], 0.5 * std::sqrt(2.0) * 0.1);  // half the B spring
   }
+}
+
+// A sphere lowered onto a hand-made border touches the collision sphere it meets first.
+TEST(BorderNodes, SphereTouchdownHeightIsWhereTheSphereFirstTouches) {
+  Eigen::Matrix3Xd x(3, 2);
+  x << 0.0, 0.3, 0.0, 0.0, 1.0, 1.1;  // two nodes: (0, 0, 1) and (0.3, 0, 1.1)
+  BorderNodes border;
+  border.nodes = {0, 1};
+  border.radii = {0.1, 0.1};
+  // Right above node 0, radius 0.5: reaches node 1 (0.3 aside) at 1.1 + sqrt(0.6^2 - 0.3^2).
+  EXPECT_NEAR(SphereTouchdownHeight(x, border, Eigen::Vector2d(0, 0), 0.5),
+              1.1 + std::sqrt(0.36 - 0.09), 1e-12);
+  // A small sphere above node 0 misses node 1: touches node 0's sphere at 1 + 0.1 + 0.05.
+  EXPECT_NEAR(SphereTouchdownHeight(x, border, Eigen::Vector2d(0, 0), 0.05), 1.15, 1e-12);
+  EXPECT_EQ(SphereTouchdownHeight(x, border, Eigen::Vector2d(5, 0), 0.5),
+            -std::numeric_limits<double>::infinity());
 }
 
 std::shared_ptr<const Model> Block() {

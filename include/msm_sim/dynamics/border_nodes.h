@@ -25,4 +25,11 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance = 0.25);
 /// (3 x N): where a ground plane just touches the body. +infinity without border nodes.
 double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& border);
 
+/// Height (m) of the centre of a rigid sphere of `radius` (m, > 0) lowered along -z through
+/// (x, y) = `axis` when it first touches a border node's collision sphere, the nodes at
+/// `positions` (3 x N): where an indenter starts just in contact. -infinity if no collision
+/// sphere lies under it.
+double SphereTouchdownHeight(const Eigen::Matrix3Xd& positions, const BorderNodes& border,
+                             const Eigen::Vector2d& axis, double radius);
+
 }  // namespace msm_sim::core

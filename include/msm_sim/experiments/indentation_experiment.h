@@ -1,0 +1,56 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// A rigid sphere pressed at constant speed into the middle of the top of a body clamped at its
+/// base, its force against Hertz's (issue "Real time at real resolution"; `msm_lab indent`).
+/// The body is the model at rest, without gravity (so that it does not sag before contact); a
+/// kinematic group fixes the nodes within half a characteristic length of its lowest node. The
+/// sphere starts `start_gap` above the collision spheres of the nodes under it, above the centre
+/// of the model's bounding box, and moves down at `speed` until it is `depth` past first contact
+/// (the end of the first step in which the body exerts a force on it).
+struct IndentationExperimentOptions {
+  double sphere_radius = 0.01;  ///< R (m), finite, > 0 (the demo robot's fingertip)
+  double depth = 0.005;         ///< D (m), finite, > 0 and less than the body's height
+  double speed = 0.005;         ///< V (m/s), finite, > 0, downwards
+  double step = 1e-3;           ///< s, finite, > 0, the caller's step (stable substeps inside)
+  double damping_beta = 1e-4;   ///< s, finite, >= 0: spring dampers c = beta k
+  DispersionPasses dispersion = DispersionPasses::kTwoPass;
+  /// Rows of the profile over the depth, >= 1: each row covers about D / samples of depth.
+  int samples = 50;
+  double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start
+};
+
+/// One row of the profile: a run of consecutive steps covering about D / samples of depth.
+struct IndentationSample {
+  double depth = 0.0;  ///< m past first contact, the mean over the row's steps
+  /// N, the mean over the row's steps of the vertical force the body exerts on the sphere
+  /// (upwards positive; each step's force is its contact impulses over the step).
+  double force = 0.0;
+  double hertz_force = 0.0;  ///< N, HertzForce at `depth` with the model's target E and nu
+};
+
+struct IndentationExperimentResult {
+  std::vector<IndentationSample> profile;  ///< by increasing depth
+  double contact_time = 0.0;               ///< s, simulated time at the end of first contact
+  double seconds_simulated = 0.0;          ///< s, up to depth D
+  int steps = 0;
+};
+
+/// Hertz's force (N) of a rigid sphere of radius R (m) pressed to depth delta (m) into an elastic
+/// half-space: F = 4/3 E / (1 - nu^2) sqrt(R) delta^(3/2); 0 for delta <= 0.
+double HertzForce(double youngs, double poisson, double radius, double depth);
+
+/// Runs the experiment. Throws std::invalid_argument for bad options (or a depth not less than
+/// the body's height) and std::runtime_error if a step is rejected or the sphere has not touched
+/// the body after travelling the start gap plus two characteristic lengths.
+IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model> model,
+                                                     const IndentationExperimentOptions& options);
+
+}  // namespace msm_sim::core

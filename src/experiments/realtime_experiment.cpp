@@ -1,0 +1,76 @@
+#include "msm_sim/experiments/realtime_experiment.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "experiments/indenter.h"
+#include "msm_sim/dynamics/world.h"
+
+namespace msm_sim::core {
+namespace {
+
+void CheckOptions(const RealtimeExperimentOptions& options) {
+  const double sum = options.sphere_radius + options.speed + options.seconds + options.step +
+                     options.damping_beta + options.gravity + options.friction;
+  if (!(options.sphere_radius > 0.0) || !(options.speed > 0.0) || !(options.seconds > 0.0) ||
+      !(options.step > 0.0) || !(options.damping_beta >= 0.0) || !(options.gravity >= 0.0) ||
+      !(options.friction >= 0.0) || !std::isfinite(sum)) {
+    throw std::invalid_argument(
+        "real-time run: sphere radius, speed, seconds and step must be finite and > 0, damping, "
+        "gravity and friction finite and >= 0");
+  }
+}
+
+// The ground plane touching the lowest collision sphere.
+Collider Ground(const Model& model, const BorderNodes& border, double friction) {
+  Collider ground;
+  ground.name = "ground";
+  ground.friction = friction;
+  ground.pose.translation().z() = LowestSphereBottom(model.rest_positions(), border);
+  return ground;
+}
+
+}  // namespace
+
+RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> model,
+                                               const RealtimeExperimentOptions& options) {
+  CheckOptions(options);
+  WorldOptions world_options;
+  world_options.gravity = Eigen::Vector3d(0.0, 0.0, -options.gravity);
+  World world(world_options);
+  BodyOptions body_options;
+  body_options.damping_beta = options.damping_beta;
+  body_options.dispersion = options.dispersion;
+  body_options.friction = options.friction;
+  const int body = world.AddBody("block", model, body_options);
+  world.AddCollider(Ground(*model, world.border(body), options.friction));
+  Collider sphere =
+      SphereIndenter(*model, world.border(body), options.sphere_radius, 0.0, options.speed);
+  sphere.friction = options.friction;
+  const int finger = world.AddCollider(sphere);
+
+  RealtimeExperimentResult result;
+  result.nodes = model->num_nodes();
+  result.springs = model->num_springs();
+  result.step = options.step;
+  const int steps = std::max(1, static_cast<int>(std::lround(options.seconds / options.step)));
+  const auto start = std::chrono::steady_clock::now();
+  for (int k = 0; k < steps; ++k) {
+    const StepReport report = world.Step(options.step);
+    if (!report.accepted) throw std::runtime_error("real-time run: " + report.reason);
+    result.substeps = std::max(result.substeps, report.substeps);
+    result.substep = report.substep;
+    result.peak_force = std::max(result.peak_force, world.wrenches(body)[finger].force.norm());
+  }
+  result.wall_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.steps = steps;
+  result.seconds_simulated = world.time();
+  result.wall_per_simulated_second = result.wall_seconds / result.seconds_simulated;
+  result.real_time_factor = 1.0 / result.wall_per_simulated_second;
+  return result;
+}
+
+}  // namespace msm_sim::core

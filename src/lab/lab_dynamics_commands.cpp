@@ -1,0 +1,108 @@
+#include "lab_dynamics_commands.h"
+
+#include <chrono>
+#include <iomanip>
+#include <memory>
+#include <stdexcept>
+
+#include "lab_model.h"
+#include "lab_report.h"
+#include "msm_sim/experiments/indentation_experiment.h"
+#include "msm_sim/experiments/realtime_experiment.h"
+#include "msm_sim/model/model_statistics.h"
+
+namespace msm_sim::lab {
+namespace {
+
+core::DispersionPasses Dispersion(const std::string& name) {
+  if (name == "two-pass") return core::DispersionPasses::kTwoPass;
+  if (name == "one-pass") return core::DispersionPasses::kOnePass;
+  throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
+}
+
+std::shared_ptr<const core::Model> LabBlock(const ModelArguments& model) {
+  return std::make_shared<const core::Model>(BuildLabModel(model, LoadLabBody(model, true)));
+}
+
+// The table's first line: the block and the sphere.
+void PrintScene(const LabArguments& arguments, const char* what, std::ostream& out) {
+  const Eigen::Vector3d& size = arguments.model.size;
+  out << what << ": block " << size.x() << " x " << size.y() << " x " << size.z()
+      << " m, sphere radius " << arguments.contact.sphere_radius << " m, dampers beta "
+      << arguments.contact.damping << " s\n";
+}
+
+}  // namespace
+
+int RunRealtime(const LabArguments& arguments, std::ostream& out) {
+  const ContactArguments& contact = arguments.contact;
+  core::RealtimeExperimentOptions options;
+  options.sphere_radius = contact.sphere_radius;
+  options.seconds = contact.seconds;
+  options.damping_beta = contact.damping;
+  options.dispersion = Dispersion(arguments.model.dispersion);
+  const auto model = LabBlock(arguments.model);
+  const core::RealtimeExperimentResult result = core::RunRealtimeExperiment(model, options);
+  if (arguments.json) {
+    const Json json{{"nodes", result.nodes},
+                    {"springs", result.springs},
+                    {"integrator", result.integrator},
+                    {"step", result.step},
+                    {"substeps", result.substeps},
+                    {"wall_per_simulated_second", result.wall_per_simulated_second},
+                    {"real_time_factor", result.real_time_factor},
+                    {"peak_force", result.peak_force}};
+    out << json.dump() << "\n";
+    return 0;
+  }
+  PrintScene(arguments, "real-time run, block on the ground", out);
+  PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
+  out << std::setprecision(4) << "sphere speed     " << options.speed << " m/s, down\n"
+      << "integrator       " << result.integrator << ", step " << 1e3 * result.step << " ms in "
+      << result.substeps << " substeps of " << 1e3 * result.substep << " ms\n"
+      << "simulated        " << result.seconds_simulated << " s in " << result.wall_seconds
+      << " s\n"
+      << "wall / simulated " << result.wall_per_simulated_second << "\n"
+      << "real-time factor " << result.real_time_factor << "\n"
+      << "peak force       " << result.peak_force << " N\n";
+  return 0;
+}
+
+int RunIndent(const LabArguments& arguments, std::ostream& out) {
+  const auto start = std::chrono::steady_clock::now();
+  const ContactArguments& contact = arguments.contact;
+  core::IndentationExperimentOptions options;
+  options.sphere_radius = contact.sphere_radius;
+  options.depth = contact.depth;
+  options.speed = contact.speed;
+  options.damping_beta = contact.damping;
+  options.dispersion = Dispersion(arguments.model.dispersion);
+  const auto model = LabBlock(arguments.model);
+  const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);
+  if (arguments.json) {
+    Json profile = Json::array();
+    for (const core::IndentationSample& row : result.profile) {
+      profile.push_back({row.depth, row.force, row.hertz_force});
+    }
+    const Json json{
+        {"profile", profile}, {"nodes", model->num_nodes()}, {"seconds", result.seconds_simulated}};
+    out << json.dump() << "\n";
+    return 0;
+  }
+  PrintScene(arguments, "indentation, base clamped", out);
+  PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
+  out << "speed            " << contact.speed << " m/s, depth " << contact.depth
+      << " m past first contact (at " << result.contact_time << " s)\n\n"
+      << "  depth [mm]   force [N]   Hertz [N]\n"
+      << std::fixed;
+  for (const core::IndentationSample& row : result.profile) {
+    out << std::setprecision(4) << std::setw(12) << 1e3 * row.depth << std::setw(12) << row.force
+        << std::setw(12) << row.hertz_force << "\n";
+  }
+  out << std::defaultfloat << std::setprecision(4) << "\nsimulated        "
+      << result.seconds_simulated << " s\n"
+      << "time: " << Seconds(start) << " s\n";
+  return 0;
+}
+
+}  // namespace msm_sim::lab

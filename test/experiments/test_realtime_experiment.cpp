@@ -1,0 +1,60 @@
+// The real-time experiment (issue "Real time at real resolution"): what it reports, never how
+// fast it runs (the test machine's load decides that).
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/experiments/realtime_experiment.h"
+
+namespace msm_sim::core {
+namespace {
+
+// 4 x 4 x 2 cm at a = 5 mm: 8 x 8 x 4 = 256 nodes, E = 200 kPa, rho = 1100.
+std::shared_ptr<const Model> SmallBlock() {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d(0.04, 0.04, 0.02);
+  lattice.spacing = 0.005;
+  return std::make_shared<const Model>(
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice));
+}
+
+TEST(RealtimeExperiment, ReportsTheModelStepsAndContactForce) {
+  const auto block = SmallBlock();
+  RealtimeExperimentOptions options;
+  options.seconds = 0.05;  // the sphere 0.5 mm deep
+  const RealtimeExperimentResult result = RunRealtimeExperiment(block, options);
+  EXPECT_EQ(result.nodes, block->num_nodes());
+  EXPECT_EQ(result.springs, block->num_springs());
+  EXPECT_EQ(result.integrator, "explicit");
+  EXPECT_EQ(result.step, 1e-3);
+  EXPECT_EQ(result.steps, 50);
+  EXPECT_NEAR(result.seconds_simulated, 0.05, 1e-12);
+  EXPECT_GE(result.substeps, 1);
+  EXPECT_NEAR(result.substep * result.substeps, 1e-3, 1e-15);
+  EXPECT_TRUE(std::isfinite(result.peak_force));
+  EXPECT_GT(result.peak_force, 0.0);
+  EXPECT_GT(result.wall_seconds, 0.0);
+  EXPECT_NEAR(result.wall_per_simulated_second, result.wall_seconds / 0.05,
+              1e-9 * result.wall_per_simulated_second);
+  EXPECT_DOUBLE_EQ(result.real_time_factor, 1.0 / result.wall_per_simulated_second);
+}
+
+TEST(RealtimeExperiment, InvalidOptionsThrow) {
+  const auto block = SmallBlock();
+  for (int field = 0; field < 7; ++field) {
+    RealtimeExperimentOptions options;
+    double* values[] = {&options.sphere_radius, &options.speed,   &options.seconds,
+                        &options.step,          &options.gravity, &options.friction,
+                        &options.damping_beta};
+    *values[field] = field < 4 ? 0.0 : -1.0;
+    EXPECT_THROW(RunRealtimeExperiment(block, options), std::invalid_argument) << field;
+    *values[field] = std::nan("");
+    EXPECT_THROW(RunRealtimeExperiment(block, options), std::invalid_argument) << field;
+  }
+}
+
+}  // namespace
+}  // namespace msm_sim::core

@@ -1,0 +1,116 @@
+// Runs the real msm_lab executable's sphere commands (issue "Real time at real resolution"):
+// `realtime` and `indent`, their outputs, error lines and exit codes.
+
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "../run_command.h"
+
+namespace {
+
+using LabRun = msm_sim::testing::CommandRun;
+
+LabRun RunLab(const std::string& arguments) {
+  return msm_sim::testing::RunCommand(std::string(MSM_LAB_EXECUTABLE) + " " + arguments);
+}
+
+int CountLines(const std::string& text) {
+  int lines = 0;
+  for (char c : text) lines += c == '\n';
+  return lines;
+}
+
+// 4 x 4 x 2 cm at a = 5 mm: 256 nodes.
+const std::string kSmallBlock = "--size 0.04 0.04 0.02 --spacing 0.005 --poisson 0.25";
+
+TEST(LabCliRealtime, JsonHasExactlyTheIssuesKeys) {
+  const LabRun run = RunLab("realtime " + kSmallBlock + " --seconds 0.05 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_EQ(CountLines(run.out), 1) << run.out;
+  const auto json = nlohmann::json::parse(run.out);
+  std::set<std::string> keys;
+  for (const auto& item : json.items()) keys.insert(item.key());
+  EXPECT_EQ(keys,
+            (std::set<std::string>{"nodes", "springs", "integrator", "step", "substeps",
+                                   "wall_per_simulated_second", "real_time_factor", "peak_force"}));
+  EXPECT_EQ(json["nodes"], 256);
+  EXPECT_EQ(json["integrator"], "explicit");
+  EXPECT_EQ(json["step"], 1e-3);
+  EXPECT_GE(json["substeps"].get<int>(), 1);
+  EXPECT_GT(json["peak_force"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(json["real_time_factor"].get<double>(),
+                   1.0 / json["wall_per_simulated_second"].get<double>());
+}
+
+TEST(LabCliRealtime, TableUsesTheIssuesBlockByDefault) {
+  // 10 x 10 x 5 cm, rho 1100: 0.55 kg; at a = 1 cm 10 x 10 x 5 nodes.
+  const LabRun run = RunLab("realtime --spacing 0.01 --poisson 0.49 --seconds 0.02");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (const char* text : {"real-time factor", "0.55 kg", "500", "explicit", "peak force"}) {
+    EXPECT_NE(run.out.find(text), std::string::npos) << text << " in\n" << run.out;
+  }
+}
+
+TEST(LabCliIndent, JsonProfileRowsAreDepthForceHertz) {
+  const LabRun run =
+      RunLab("indent " + kSmallBlock + " --youngs 2e5 --sphere-radius 0.01 --depth 0.002 --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["nodes"], 256);
+  EXPECT_GT(json["seconds"].get<double>(), 0.4);  // 2 mm at 5 mm/s after the approach
+  ASSERT_EQ(json["profile"].size(), 50u);
+  for (const auto& row : json["profile"]) {
+    ASSERT_EQ(row.size(), 3u);
+    for (const auto& value : row) EXPECT_TRUE(value.is_number());
+  }
+  EXPECT_NEAR(json["profile"].back()[0].get<double>(), 0.002, 1e-4);
+  const LabRun table =
+      RunLab("indent " + kSmallBlock + " --youngs 2e5 --sphere-radius 0.01 --depth 0.001");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("Hertz [N]"), std::string::npos) << table.out;
+}
+
+struct BadInput {
+  const char* arguments;
+  const char* mentions;
+};
+
+class LabCliSphereBadInput : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(LabCliSphereBadInput, PrintsOneErrorLineAndExitCode2) {
+  const BadInput& bad = GetParam();
+  const LabRun run = RunLab(bad.arguments);
+  EXPECT_FALSE(run.signalled);
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  EXPECT_EQ(CountLines(run.err), 1) << run.err;
+  EXPECT_EQ(run.err.rfind("msm_lab: error: ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find(bad.mentions), std::string::npos) << run.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Contract, LabCliSphereBadInput,
+    ::testing::Values(
+        BadInput{"indent --size 0.04 0.04 0.02 --spacing 0.005 --youngs 2e5 --poisson 0.25 "
+                 "--sphere-radius 0.01 --depth -0.001",
+                 "--depth"},
+        BadInput{"indent --size 0.04 0.04 0.02 --spacing 0.005 --youngs 2e5 --poisson 0.25 "
+                 "--sphere-radius 0 --depth 0.001",
+                 "--sphere-radius"},
+        BadInput{"indent --size 0.04 0.04 0.02 --spacing 0.005 --youngs 2e5 --poisson 0.25 "
+                 "--sphere-radius 0.01",
+                 "--depth"},
+        BadInput{"indent --size 0.04 0.04 0.02 --spacing 0.005 --youngs 2e5 --poisson 0.25 "
+                 "--sphere-radius 0.01 --depth 0.05",
+                 "height"},
+        BadInput{"indent --size 0.04 0.04 0.02 --spacing 0.005 --youngs 2e5 --poisson 0.25 "
+                 "--sphere-radius 0.01 --depth 0.001 --frobnicate",
+                 "frobnicate"},
+        BadInput{"realtime --spacing 0.01 --poisson 0.25 --seconds 0", "--seconds"},
+        BadInput{"realtime --spacing 0.01 --poisson 0.25 --integrator implicit", "integrator"},
+        BadInput{"realtime --spacing 0.01 --poisson 0.7", "Poisson"},
+        BadInput{"realtime --poisson 0.25", "--spacing"}));
+
+}  // namespace
