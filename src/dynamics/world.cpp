@@ -59,6 +59,11 @@ World::World(const WorldOptions& options) : options_(options) {
           "time step safety must lie in (0, 1]");
   Require(options.max_speed > 0.0, "max speed must be > 0");
   Require(options.contact_iterations >= 1, "contact iterations must be >= 1");
+  Require(options.implicit_max_substep > 0.0 && Finite(options.implicit_max_substep),
+          "implicit max substep must be finite and > 0");
+  Require(options.implicit_tolerance > 0.0 && options.implicit_tolerance < 1.0,
+          "implicit tolerance must lie in (0, 1)");
+  Require(options.implicit_max_iterations >= 1, "implicit max iterations must be >= 1");
 }
 
 static void ValidateBodyOptions(const std::string& name, const BodyOptions& options) {
@@ -75,6 +80,7 @@ int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
   Require(model != nullptr, "body '" + name + "' has no model");
   ValidateBodyOptions(name, options);
   Body body(name, model, options, options_.time_step_safety);
+  RequireIntegrable(body);
   body.pair_friction.assign(colliders_.size(), -1.0);
   body.wrenches.assign(colliders_.size(), ContactWrench{});
   bodies_.push_back(std::move(body));
@@ -177,6 +183,7 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
           "the new model has " + std::to_string(model->num_nodes()) + " nodes, the body " +
               std::to_string(old.model->num_nodes()));
   Body body(old.name, model, options, options_.time_step_safety);
+  RequireIntegrable(body);
   body.state = old.state;
   body.groups = old.groups;
   body.constrained = old.constrained;
@@ -246,6 +253,7 @@ void World::Reset() {
     body.state = State::AtRest(*body.model);
     body.pending.clear();
     body.pushes.clear();
+    body.implicit_dv.resize(3, 0);  // no warm start from before the reset
     PlaceGroups(&body, 0.0);
     std::fill(body.wrenches.begin(), body.wrenches.end(), ContactWrench{});
   }

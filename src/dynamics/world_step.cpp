@@ -41,7 +41,8 @@ StepReport World::Step(double dt) {
   Require(dt > 0.0 && Finite(dt), "step must be finite and > 0");
   StepReport report;
   const StepStart start = SaveForRollback();
-  report.substeps = NumSubsteps(dt, stable_time_step());
+  const bool implicit = options_.integrator == Integrator::kImplicit;
+  report.substeps = NumSubsteps(dt, implicit ? options_.implicit_max_substep : stable_time_step());
   report.substep = dt / report.substeps;
   ClearStepRecords();
   const std::string problem = RunSubsteps(report.substeps, report.substep, start.collider_poses);
@@ -50,10 +51,12 @@ StepReport World::Step(double dt) {
     const bool dropped = RollBack(start);
     report.accepted = false;
     report.reason = problem + (dropped ? "; the step's applied forces were dropped" : "");
+    report.solver_iterations = solver_iterations_;
     return report;
   }
   FinishStep(dt, start);
   report.microcollisions = microcollisions_;
+  report.solver_iterations = solver_iterations_;
   return report;
 }
 
@@ -64,6 +67,7 @@ World::StepStart World::SaveForRollback() {
     body.saved_positions = body.state.positions;
     body.saved_velocities = body.state.velocities;
     body.saved_pending = body.pending;
+    body.saved_implicit_dv = body.implicit_dv;  // empty for the explicit integrator
   }
   StepStart start;
   for (const Collider& collider : colliders_) start.collider_poses.push_back(collider.pose);
@@ -76,6 +80,7 @@ void World::ClearStepRecords() {
     body.impulses.assign(colliders_.size() + body.groups.size(), ImpulseSum{});
   }
   microcollisions_ = 0;
+  solver_iterations_ = 0;
   for (Body& body : bodies_) body.fastest_speed_sq = 0.0;
 }
 
@@ -94,6 +99,7 @@ bool World::RollBack(const StepStart& start) {
     body.state.positions = body.saved_positions;
     body.state.velocities = body.saved_velocities;
     body.pending = body.saved_pending;
+    body.implicit_dv = body.saved_implicit_dv;
   }
   for (std::size_t c = 0; c < colliders_.size(); ++c) colliders_[c].pose = start.collider_poses[c];
   time_ = start.time;
@@ -157,10 +163,14 @@ std::string World::CheckSane() const {
 void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time) {
   const double t0 = time_ + step_time;  // time_ stays at the step's start until it ends
   for (Body& body : bodies_) {
-    DriftHalf(&body, h, t0);             // 1
-    ApplyPendingRestitution(&body);      // 2
-    ComputeForces(&body);                // 3
-    Kick(&body, h);                      // 4
+    DriftHalf(&body, h, t0);         // 1
+    ApplyPendingRestitution(&body);  // 2
+    if (options_.integrator == Integrator::kImplicit) {
+      solver_iterations_ += ImplicitKick(&body, h, t0);  // 3-4 (world_implicit.cpp)
+    } else {
+      ComputeForces(&body);  // 3
+      Kick(&body, h);        // 4
+    }
     DriveKinematicGroups(&body, h, t0);  // 4, for the nodes a frame dictates
   }
   ResolveContacts(h, start_poses, step_time);                       // 5-6

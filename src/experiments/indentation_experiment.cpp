@@ -96,6 +96,8 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   }
   WorldOptions world_options;
   world_options.gravity.setZero();
+  world_options.integrator = options.integrator;
+  world_options.implicit_max_substep = options.step;
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;

@@ -39,6 +39,8 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   CheckOptions(options);
   WorldOptions world_options;
   world_options.gravity = Eigen::Vector3d(0.0, 0.0, -options.gravity);
+  world_options.integrator = options.integrator;
+  world_options.implicit_max_substep = options.step;
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;
@@ -54,7 +56,9 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   RealtimeExperimentResult result;
   result.nodes = model->num_nodes();
   result.springs = model->num_springs();
+  result.integrator = IntegratorName(options.integrator);
   result.step = options.step;
+  long solver_iterations = 0;
   const int steps = std::max(1, static_cast<int>(std::lround(options.seconds / options.step)));
   const auto start = std::chrono::steady_clock::now();
   for (int k = 0; k < steps; ++k) {
@@ -62,11 +66,13 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
     if (!report.accepted) throw std::runtime_error("real-time run: " + report.reason);
     result.substeps = std::max(result.substeps, report.substeps);
     result.substep = report.substep;
+    solver_iterations += report.solver_iterations;
     result.peak_force = std::max(result.peak_force, world.wrenches(body)[finger].force.norm());
   }
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.steps = steps;
+  result.solver_iterations_per_step = static_cast<double>(solver_iterations) / steps;
   result.seconds_simulated = world.time();
   result.wall_per_simulated_second = result.wall_seconds / result.seconds_simulated;
   result.real_time_factor = 1.0 / result.wall_per_simulated_second;

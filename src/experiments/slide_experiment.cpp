@@ -25,6 +25,8 @@ SlideExperimentResult RunSlideExperiment(std::shared_ptr<const Model> model,
   }
   WorldOptions world_options;
   world_options.gravity = Eigen::Vector3d(0.0, 0.0, -options.gravity);
+  world_options.integrator = options.integrator;
+  world_options.implicit_max_substep = options.step;
   World world(world_options);
   BodyOptions body_options;
   body_options.friction = options.friction;

@@ -225,6 +225,11 @@ void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
   command->add_option("--damping", contact->damping, "spring dampers beta, c = beta k (s)")
       ->capture_default_str()
       ->check(Finite(true));
+  command
+      ->add_option("--integrator", contact->integrator,
+                   "explicit (position Verlet, stable substeps) | implicit (one substep a step)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"explicit", "implicit"}));
 }
 
 void AddSphereCommands(CLI::App* app, CommandLine* line) {

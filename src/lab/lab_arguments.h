@@ -59,6 +59,7 @@ struct ContactArguments {
   double seconds = 0.5;         ///< realtime: simulated time, s
   double depth = 0.0;           ///< indent: indentation past first contact, m
   double speed = 0.005;         ///< indent: the sphere's speed, m/s
+  std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
 };
 
 struct LabArguments {

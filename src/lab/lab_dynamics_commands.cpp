@@ -20,6 +20,12 @@ core::DispersionPasses Dispersion(const std::string& name) {
   throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
 }
 
+core::Integrator IntegratorNamed(const std::string& name) {
+  if (name == "explicit") return core::Integrator::kExplicit;
+  if (name == "implicit") return core::Integrator::kImplicit;
+  throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
+}
+
 std::shared_ptr<const core::Model> LabBlock(const ModelArguments& model) {
   return std::make_shared<const core::Model>(BuildLabModel(model, LoadLabBody(model, true)));
 }
@@ -41,6 +47,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.seconds = contact.seconds;
   options.damping_beta = contact.damping;
   options.dispersion = Dispersion(arguments.model.dispersion);
+  options.integrator = IntegratorNamed(contact.integrator);
   const auto model = LabBlock(arguments.model);
   const core::RealtimeExperimentResult result = core::RunRealtimeExperiment(model, options);
   if (arguments.json) {
@@ -59,7 +66,11 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
   out << std::setprecision(4) << "sphere speed     " << options.speed << " m/s, down\n"
       << "integrator       " << result.integrator << ", step " << 1e3 * result.step << " ms in "
-      << result.substeps << " substeps of " << 1e3 * result.substep << " ms\n"
+      << result.substeps << " substeps of " << 1e3 * result.substep << " ms";
+  if (options.integrator == core::Integrator::kImplicit) {
+    out << ", " << result.solver_iterations_per_step << " CG iterations per step";
+  }
+  out << "\n"
       << "simulated        " << result.seconds_simulated << " s in " << result.wall_seconds
       << " s\n"
       << "wall / simulated " << result.wall_per_simulated_second << "\n"
@@ -77,6 +88,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.speed = contact.speed;
   options.damping_beta = contact.damping;
   options.dispersion = Dispersion(arguments.model.dispersion);
+  options.integrator = IntegratorNamed(contact.integrator);
   const auto model = LabBlock(arguments.model);
   const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);
   if (arguments.json) {
@@ -84,14 +96,17 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
     for (const core::IndentationSample& row : result.profile) {
       profile.push_back({row.depth, row.force, row.hertz_force});
     }
-    const Json json{
-        {"profile", profile}, {"nodes", model->num_nodes()}, {"seconds", result.seconds_simulated}};
+    const Json json{{"profile", profile},
+                    {"nodes", model->num_nodes()},
+                    {"seconds", result.seconds_simulated},
+                    {"integrator", contact.integrator}};
     out << json.dump() << "\n";
     return 0;
   }
   PrintScene(arguments, "indentation, base clamped", out);
   PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
-  out << "speed            " << contact.speed << " m/s, depth " << contact.depth
+  out << "integrator       " << contact.integrator << ", step " << 1e3 * options.step << " ms\n"
+      << "speed            " << contact.speed << " m/s, depth " << contact.depth
       << " m past first contact (at " << result.contact_time << " s)\n\n"
       << "  depth [mm]   force [N]   Hertz [N]\n"
       << std::fixed;

@@ -45,6 +45,18 @@ TEST(LabCliRealtime, JsonHasExactlyTheIssuesKeys) {
                    1.0 / json["wall_per_simulated_second"].get<double>());
 }
 
+TEST(LabCliRealtime, ImplicitIntegratorTakesOneSubstepPerStep) {
+  const LabRun run =
+      RunLab("realtime " + kSmallBlock + " --seconds 0.02 --integrator implicit --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["integrator"], "implicit");
+  EXPECT_EQ(json["substeps"], 1);
+  const LabRun table = RunLab("realtime " + kSmallBlock + " --seconds 0.02 --integrator implicit");
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("CG iterations per step"), std::string::npos) << table.out;
+}
+
 TEST(LabCliRealtime, TableUsesTheIssuesBlockByDefault) {
   // 10 x 10 x 5 cm, rho 1100: 0.55 kg; at a = 1 cm 10 x 10 x 5 nodes.
   const LabRun run = RunLab("realtime --spacing 0.01 --poisson 0.49 --seconds 0.02");
@@ -67,6 +79,12 @@ TEST(LabCliIndent, JsonProfileRowsAreDepthForceHertz) {
     for (const auto& value : row) EXPECT_TRUE(value.is_number());
   }
   EXPECT_NEAR(json["profile"].back()[0].get<double>(), 0.002, 1e-4);
+  EXPECT_EQ(json["integrator"], "explicit");
+  const LabRun implicit = RunLab("indent " + kSmallBlock +
+                                 " --youngs 2e5 --sphere-radius 0.01 --depth 0.001 "
+                                 "--integrator implicit --json");
+  ASSERT_EQ(implicit.exit_code, 0) << implicit.err;
+  EXPECT_EQ(nlohmann::json::parse(implicit.out)["integrator"], "implicit");
   const LabRun table =
       RunLab("indent " + kSmallBlock + " --youngs 2e5 --sphere-radius 0.01 --depth 0.001");
   ASSERT_EQ(table.exit_code, 0) << table.err;
@@ -109,7 +127,10 @@ INSTANTIATE_TEST_SUITE_P(
                  "--sphere-radius 0.01 --depth 0.001 --frobnicate",
                  "frobnicate"},
         BadInput{"realtime --spacing 0.01 --poisson 0.25 --seconds 0", "--seconds"},
-        BadInput{"realtime --spacing 0.01 --poisson 0.25 --integrator implicit", "integrator"},
+        BadInput{"realtime --spacing 0.01 --poisson 0.25 --integrator semi", "integrator"},
+        BadInput{"indent --size 0.04 0.04 0.02 --spacing 0.005 --youngs 2e5 --poisson 0.25 "
+                 "--sphere-radius 0.01 --depth 0.001 --integrator verlet",
+                 "integrator"},
         BadInput{"realtime --spacing 0.01 --poisson 0.7", "Poisson"},
         BadInput{"realtime --poisson 0.25", "--spacing"}));
 

@@ -30,6 +30,20 @@ struct BodyOptions {
   bool self_collision = false;
 };
 
+/// How World::Substep turns forces into velocities (docs/physics.md §7 and §7.1).
+enum class Integrator {
+  /// Position Verlet in substeps no longer than the stable step (conditionally stable).
+  kExplicit,
+  /// The linearly implicit substep (world.h's class comment): unconditionally stable for linear
+  /// springs, so substeps of up to implicit_max_substep, each a conjugate-gradient solve.
+  kImplicit,
+};
+
+/// "explicit" or "implicit" (for reports).
+inline const char* IntegratorName(Integrator integrator) {
+  return integrator == Integrator::kImplicit ? "implicit" : "explicit";
+}
+
 struct WorldOptions {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  ///< m/s^2
   /// Fraction of each body's stability limit used as the substep (see StableTimeStep).
@@ -40,6 +54,16 @@ struct WorldOptions {
   /// Gauss-Seidel sweeps over a node's contacts with colliders, so that touching several
   /// surfaces at once (a wedge, a gripper) ends with no approach towards any of them.
   int contact_iterations = 8;
+  Integrator integrator = Integrator::kExplicit;
+  /// Implicit only: the longest substep (s, finite, > 0); Step(dt) takes equal substeps of at
+  /// most this, whatever the bodies' stable steps.
+  double implicit_max_substep = 1e-3;
+  /// Implicit only: the conjugate-gradient solve stops when the residual impulse on the free
+  /// nodes is this fraction, in (0, 1), of the larger of h |F| and the gravity impulse h M |g|
+  /// (a body at rest has F ~ 0; relative to it alone every solve would chase round-off) ...
+  double implicit_tolerance = 1e-4;
+  /// ... or after this many iterations (>= 1), whichever comes first.
+  int implicit_max_iterations = 200;
 };
 
 /// Energies of one body (J). Gravitational energy is -m g . x (zero at the world origin). The
@@ -59,6 +83,9 @@ struct StepReport {
   int substeps = 0;
   double substep = 0.0;  ///< s
   int microcollisions = 0;
+  /// Implicit integrator: conjugate-gradient iterations summed over the step's substeps (each
+  /// costs one stiffness product); 0 for the explicit one.
+  int solver_iterations = 0;
 };
 
 /// Nodes whose positions a rigid frame dictates: a clamp (fixed frame) or a kinematic grip. The
@@ -83,7 +110,19 @@ struct KinematicGroup {
 /// overlap. Each contact's normal velocity change is (1 + e) times the approach speed; friction
 /// adds up to mu times that, against the tangential velocity and never reversing it.
 ///
-/// Step() subdivides the caller's step into stable substeps, and either advances everything or,
+/// With WorldOptions::integrator = kImplicit, steps 3-4 become one linearly implicit kick
+/// (docs/physics.md §7.1): F as in step 3 plus gravity at (x_mid, v), K the stiffness at x_mid,
+/// and v += dv with (M + (h^2/2 + h beta) K) dv = h F solved by Jacobi-preconditioned conjugate
+/// gradient (kinematic nodes' dv fixed to their frames' velocities). This takes the elastic force
+/// at x_mid + h/2 dv and the dampers at v + dv: for linear springs without dampers every mode
+/// (a = h omega) has an update of determinant 1 and trace 2 / (1 + a^2/2), stable at any h; the
+/// dampers only dissipate. Steps 1-2 and 5-7 are unchanged. Limits: carrier springs with eMSM
+/// dispersion (non-symmetric K) are refused; large h lags the contacts (one contact response per
+/// substep) and the true energy of a mode with large a oscillates (by up to 1 + a^2/4 within a
+/// period) around the conserved modified energy.
+///
+/// Step() subdivides the caller's step into stable substeps (implicit: substeps of at most
+/// implicit_max_substep), and either advances everything or,
 /// if any substep produces a non-finite value or a node faster than max_speed, restores the
 /// last good state, drops the forces applied with ApplyForce (an absurd push is the usual cause,
 /// and would fail every later step) and reports why.
@@ -92,7 +131,9 @@ class World {
   explicit World(const WorldOptions& options = {});
 
   /// Adds a body at rest at the model's rest positions; returns its index. Throws
-  /// std::invalid_argument for out-of-range options.
+  /// std::invalid_argument for out-of-range options, and in an implicit world for a model whose
+  /// stiffness is not symmetric (carrier springs with eMSM dispersion: conjugate gradient needs
+  /// a symmetric system).
   int AddBody(const std::string& name, std::shared_ptr<const Model> model,
               const BodyOptions& options = {});
   /// Adds a collider; returns its index. Its pose and twist may be changed between steps.
@@ -113,13 +154,15 @@ class World {
   void ApplyWrench(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
                    const Eigen::Vector3d& torque, double radius, double duration);
   /// Swaps a body's model for one with the same nodes (a recalibrated material), keeping its
-  /// state, groups and pushes. Throws std::invalid_argument if the node counts differ.
+  /// state, groups and pushes. Throws std::invalid_argument if the node counts differ, and as
+  /// AddBody.
   void ReplaceModel(int body, std::shared_ptr<const Model> model, const BodyOptions& options);
   /// Coulomb coefficient for a body against a collider, overriding the default
   /// sqrt(mu_body mu_collider).
   void SetPairFriction(int body, int collider, double friction);
 
-  /// Advances by dt (s, > 0) in equal substeps no longer than the stable step.
+  /// Advances by dt (s, > 0) in equal substeps no longer than the stable step (implicit: no
+  /// longer than implicit_max_substep).
   StepReport Step(double dt);
   /// Puts every body back at rest at its rest positions (kinematic groups at their poses at
   /// time 0), drops pending pushes and contacts, and sets the time to 0.
@@ -195,8 +238,9 @@ class World {
     Eigen::Matrix3Xd saved_positions, saved_velocities;  // to restore a rejected Step
     std::vector<PendingResponse> saved_pending;
     Eigen::Matrix3Xd forces;
-    std::vector<ImpulseSum> impulses;     // colliders, then groups (during a Step)
-    std::vector<ContactWrench> wrenches;  // colliders, then groups (of the last Step)
+    Eigen::Matrix3Xd implicit_dv, saved_implicit_dv;  // last implicit kick: the next one's start
+    std::vector<ImpulseSum> impulses;                 // colliders, then groups (during a Step)
+    std::vector<ContactWrench> wrenches;              // colliders, then groups (of the last Step)
   };
 
   // Where a Step started, for a rejected one to return to (bodies keep their own saved states).
@@ -239,6 +283,17 @@ class World {
   void Kick(Body* body, double h) const;
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
+  /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with
+  /// (M + (h^2/2 + h beta) K) dv = h F by masked conjugate gradient; a kinematic node gets the
+  /// velocity the forces (with dv) would give it, for DriveKinematicGroups to record the
+  /// reaction. Returns the solver's iterations. Precondition: steps 1-2 of this substep done.
+  int ImplicitKick(Body* body, double h, double t0);
+  /// The velocity change (m/s, 3 x N) a kinematic group prescribes to its nodes over the
+  /// substep [t0, t0 + h] (zero columns for free nodes).
+  Eigen::Matrix3Xd PrescribedVelocityChanges(const Body& body, double h, double t0) const;
+  /// Throws std::invalid_argument if the world is implicit and the body's stiffness is not
+  /// symmetric.
+  void RequireIntegrable(const Body& body) const;
   /// 5-6. Colliders at mid-substep; every contact stops approaching, its rebound pending.
   void ResolveContacts(double h, const std::vector<Eigen::Isometry3d>& start_poses,
                        double step_time);
@@ -282,6 +337,7 @@ class World {
   /// Puts a body's kinematic nodes where their frames are at time t.
   void PlaceGroups(Body* body, double t) const;
   int microcollisions_ = 0;
+  int solver_iterations_ = 0;  // during the current Step (implicit)
 
   WorldOptions options_;
   std::vector<Body> bodies_;

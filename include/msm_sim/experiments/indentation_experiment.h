@@ -3,6 +3,7 @@
 #include <memory>
 #include <vector>
 
+#include "msm_sim/dynamics/world.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model.h"
 
@@ -19,12 +20,14 @@ struct IndentationExperimentOptions {
   double sphere_radius = 0.01;  ///< R (m), finite, > 0 (the demo robot's fingertip)
   double depth = 0.005;         ///< D (m), finite, > 0 and less than the body's height
   double speed = 0.005;         ///< V (m/s), finite, > 0, downwards
-  double step = 1e-3;           ///< s, finite, > 0, the caller's step (stable substeps inside)
+  double step = 1e-3;           ///< s, finite, > 0, the caller's step (substeps: see integrator)
   double damping_beta = 1e-4;   ///< s, finite, >= 0: spring dampers c = beta k
   DispersionPasses dispersion = DispersionPasses::kTwoPass;
   /// Rows of the profile over the depth, >= 1: each row covers about D / samples of depth.
   int samples = 50;
   double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start
+  /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
+  Integrator integrator = Integrator::kExplicit;
 };
 
 /// One row of the profile: a run of consecutive steps covering about D / samples of depth.

@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "msm_sim/dynamics/world.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model.h"
 
@@ -12,8 +13,8 @@ namespace msm_sim::core {
 /// `msm_lab realtime`): the body rests on a ground plane (touching the lowest collision sphere)
 /// under gravity, a rigid sphere starts just touching the collision spheres under it above the
 /// centre of the model's bounding box and presses down at constant speed; the World steps as
-/// fast as it can for `seconds` of simulated time. The integrator is the World's explicit one
-/// (position Verlet in stable substeps), the only one so far.
+/// fast as it can for `seconds` of simulated time, with the World's explicit integrator (position
+/// Verlet in stable substeps) or its implicit one (one substep per step; docs/physics.md §7.1).
 struct RealtimeExperimentOptions {
   double sphere_radius = 0.01;  ///< m, finite, > 0 (the demo robot's fingertip)
   double speed = 0.01;          ///< m/s, finite, > 0, the sphere's, downwards
@@ -23,21 +24,25 @@ struct RealtimeExperimentOptions {
   DispersionPasses dispersion = DispersionPasses::kTwoPass;
   double gravity = 9.81;  ///< m/s^2, finite, >= 0, along -z
   double friction = 0.5;  ///< Coulomb coefficient of the body, the ground and the sphere, >= 0
+  /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
+  Integrator integrator = Integrator::kExplicit;
 };
 
 struct RealtimeExperimentResult {
   int nodes = 0;
   int springs = 0;
-  std::string integrator = "explicit";  ///< the World's position Verlet
+  std::string integrator = "explicit";  ///< "explicit" (position Verlet) or "implicit"
   double step = 0.0;                    ///< s, the caller's step
   int steps = 0;
-  int substeps = 0;      ///< stable substeps per step (the most any step took)
+  int substeps = 0;      ///< substeps per step (the most any step took)
   double substep = 0.0;  ///< s
   double seconds_simulated = 0.0;
   double wall_seconds = 0.0;  ///< steady_clock time of the stepping alone
   double wall_per_simulated_second = 0.0;
   double real_time_factor = 0.0;  ///< simulated over wall time: 1 / wall_per_simulated_second
   double peak_force = 0.0;        ///< N, the largest |force| the body exerted on the sphere
+  /// Implicit: conjugate-gradient iterations (stiffness products) per step, the mean; 0 explicit.
+  double solver_iterations_per_step = 0.0;
 };
 
 /// Runs the experiment. Throws std::invalid_argument for bad options or a model with no node

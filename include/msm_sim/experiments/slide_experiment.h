@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/dynamics/world.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -15,6 +16,8 @@ struct SlideExperimentOptions {
   double friction = 0.5;       ///< mu between the body and the ground, > 0
   double gravity = 9.81;       ///< m/s^2, > 0, along -z
   double step = 1e-3;          ///< s, the caller's step (subdivided into stable substeps)
+  /// kImplicit: one implicit substep per step, however long (WorldOptions::integrator).
+  Integrator integrator = Integrator::kExplicit;
   /// The body has stopped when its centre of mass moves slower than this fraction of v0.
   double stop_fraction = 1e-3;
   /// Give up after this long (s); <= 0: three times the theoretical stopping time, plus 1 s.
