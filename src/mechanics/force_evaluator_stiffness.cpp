@@ -62,7 +62,7 @@ void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
   }
 }
 
-void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions) {
+void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiffness geometric) {
   // Exact (two-pass) total tensions at `positions`, without disturbing the one-pass history of
   // the caller's simulation.
   const DispersionPasses saved_passes = passes_;
@@ -76,6 +76,8 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions) {
   dispersion_per_weight_ = saved_dispersion;
   model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
                                              : LinearizeImpl<SpringLaw::kNonlinear>(positions);
+  geometric_tensions_ =
+      geometric == GeometricStiffness::kExact ? total_tensions_ : total_tensions_.cwiseMax(0.0);
 }
 
 void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
@@ -93,7 +95,7 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
     const double stretch_rate = u.dot(dv);
     const double dt = tangent_stiffness_[s] * stretch_rate;
     const Eigen::Vector3d df =
-        dt * u + (total_tensions_[s] / lengths_[s]) * (dv - u * stretch_rate);
+        dt * u + (geometric_tensions_[s] / lengths_[s]) * (dv - u * stretch_rate);
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
     if (disperse) {
@@ -116,7 +118,7 @@ void ForceEvaluator::ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v,
                                               Eigen::Matrix3Xd* out) const {
   // The correction tensions' change: d tension_j = c sum_{i != j} dS_i, dS_i = sum u . dv over the
   // edges along i, applied along each edge (their own direction change is in the geometric term
-  // of ApplyStiffness, since total_tensions_ includes them).
+  // of ApplyStiffness, since the total tensions include them).
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const auto& edges = model_->correction_edges();
@@ -151,7 +153,7 @@ Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
     const Eigen::Vector3d u = directions_.col(s);
     const Eigen::Vector3d u2 = u.cwiseProduct(u);
     const double kt = tangent_stiffness_[s];
-    const double geometric = total_tensions_[s] / lengths_[s];
+    const double geometric = geometric_tensions_[s] / lengths_[s];
     const Eigen::Vector3d block = kt * u2 + geometric * (Eigen::Vector3d::Ones() - u2);
     diagonal.col(a[s]) += block;
     diagonal.col(b[s]) += block;

@@ -17,6 +17,15 @@ enum class DispersionPasses {
   kOnePass,
 };
 
+/// Which geometric stiffness (T / L across each spring, T its total tension) Linearize keeps.
+enum class GeometricStiffness {
+  kExact,  ///< K is the exact derivative of the forces
+  /// Compressed springs' (negative) geometric term is left out, which keeps K positive
+  /// semi-definite for linear springs with or without dispersion: an implicit step's matrix
+  /// M + c K then stays positive definite under strong compression, at any c.
+  kDropCompression,
+};
+
 /// Internal forces of a Model: spring tensions under the model's spring law plus, for an eMSM,
 /// the dispersed tensions t*_n = (J_a / b_a + J_b / b_b) / L0_n with J_x = q sum L0_i t_i over the
 /// springs at node x (docs/physics.md §3). With the model's dispersion weights v (Model::
@@ -52,8 +61,10 @@ class ForceEvaluator {
   /// must sum.
   const Eigen::VectorXd& total_tensions() const { return total_tensions_; }
 
-  /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness.
-  void Linearize(const Eigen::Matrix3Xd& positions);
+  /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness and
+  /// StiffnessDiagonal (with the geometric stiffness `geometric` asks for).
+  void Linearize(const Eigen::Matrix3Xd& positions,
+                 GeometricStiffness geometric = GeometricStiffness::kExact);
   /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric except
   /// for carrier springs with dispersion (stiffness_is_symmetric). Precondition: Linearize was
   /// called; v and out are 3 x N.
@@ -115,6 +126,7 @@ class ForceEvaluator {
   Eigen::VectorXd tensions_;               // direct tensions (two-pass)
   Eigen::VectorXd inverse_lengths_;        // 1 / L (two-pass)
   Eigen::VectorXd total_tensions_;         // direct + dispersed
+  Eigen::VectorXd geometric_tensions_;     // T of the geometric stiffness (Linearize)
   Eigen::VectorXd accumulator_;            // J per node
   Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
   bool has_previous_dispersion_ = false;
