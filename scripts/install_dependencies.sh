@@ -17,6 +17,8 @@ packages=(
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-matplotlib
   googletest libgtest-dev libgmock-dev libbenchmark-dev
+  # The benchmark peer: bench/bullet_comparison_benchmark.cpp times btSoftBody on the same lattice.
+  libbullet-dev
   # Test set-up: the mesh importer is checked against every model assimp ships.
   assimp-testmodels
   # The robot demo and its check with a real client (rviz on a virtual display).
