@@ -52,8 +52,11 @@ test: build
 	$(CATKIN_MAKE) -j1 run_tests
 	catkin_test_results --verbose $(WS)/build/test_results
 
+# The Bullet comparison is built when libbullet-dev is present (the dependency script installs it).
 bench: build
-	$(WS)/build/msm_sim/msm_sim_benchmarks
+	$(WS)/devel/lib/msm_sim/msm_sim_benchmarks
+	if [ -x $(WS)/devel/lib/msm_sim/msm_sim_bullet_benchmark ]; then \
+	  $(WS)/devel/lib/msm_sim/msm_sim_bullet_benchmark; fi
 
 format:
 	clang-format -i $$(git -C $(ROOT) ls-files '*.cpp' '*.h')
