@@ -63,6 +63,61 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
   }
 }
 
+std::vector<World::ContactNormal> World::DeepestColliderContacts(const Body& body) const {
+  std::vector<ContactNormal> deepest;
+  if (colliders_.empty()) return deepest;
+  const std::vector<ColliderFrame> frames = FrameColliders();
+  std::vector<NodeContact> contacts;
+  for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
+    const NodeIndex node = body.border.nodes[k];
+    if (body.constrained[node]) continue;
+    const Eigen::Vector3d x = body.state.positions.col(node);
+    DetectColliderContacts(frames, x, body.border.radii[k], &contacts);
+    if (contacts.empty()) continue;
+    // The signed distance of x from the collider's surface along its normal: least is deepest.
+    const auto depth = [&x](const NodeContact& a) { return (x - a.point).dot(a.normal); };
+    const NodeContact& best = *std::min_element(
+        contacts.begin(), contacts.end(),
+        [&depth](const NodeContact& a, const NodeContact& b) { return depth(a) < depth(b); });
+    const double approach =
+        -(Eigen::Vector3d(body.state.velocities.col(node)) - best.velocity).dot(best.normal);
+    deepest.push_back({node, best.normal, best.velocity, best.point, best.collider,
+                       std::max(approach, 0.0), Friction(body, best.collider)});
+  }
+  return deepest;
+}
+
+void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
+                                  const Eigen::Matrix3Xd& residual) {
+  for (const ContactNormal& contact : held) {
+    const Eigen::Vector3d impulse = -residual.col(contact.node);
+    const double normal = impulse.dot(contact.normal);
+    const double m = body->model->masses()[contact.node];
+    if (normal <= 0.0) continue;  // the last solve's hold pulled (a substep's stickiness)
+    const double e = std::min(colliders_[contact.collider].restitution, body->options.restitution);
+    // The rebound is e times the approach the hold stopped, not the impulse over m: that also
+    // pays for the stiffness coupling c K dv and would return elastic energy as speed.
+    const double rebound = e * contact.approach;
+    if (rebound > 0.0) body->pending.push_back({contact.node, rebound * contact.normal});
+    // Friction after the solve, as in the contact stage: up to mu times the normal velocity
+    // change, never reversing the sliding.
+    auto v = body->state.velocities.col(contact.node);
+    const Eigen::Vector3d relative = v - contact.velocity;
+    const Eigen::Vector3d sliding = relative - relative.dot(contact.normal) * contact.normal;
+    const double slide_speed = sliding.norm();
+    Eigen::Vector3d friction = Eigen::Vector3d::Zero();
+    if (slide_speed > 0.0) {
+      const double limit = contact.friction * (normal / m + rebound);
+      friction = -std::min(limit, slide_speed) / slide_speed * sliding;
+      v += friction;
+    }
+    const Eigen::Vector3d on_node = (normal + m * rebound) * contact.normal + m * friction;
+    body->impulses[contact.collider].Add(contact.point,
+                                         colliders_[contact.collider].pose.translation(), -on_node);
+    ++microcollisions_;
+  }
+}
+
 std::vector<World::ColliderFrame> World::FrameColliders() const {
   std::vector<ColliderFrame> frames(colliders_.size());
   for (std::size_t c = 0; c < colliders_.size(); ++c) {

@@ -1,7 +1,11 @@
 // World's implicit kick (docs/physics.md §7.1): steps 3-4 of the substep as one linearly
 // implicit velocity update, solved by masked conjugate gradient.
+#include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "dynamics/world_internal.h"
 #include "mechanics/masked_pcg.h"
@@ -64,35 +68,87 @@ int World::ImplicitKick(Body* body, double h, double t0) {
   // negative curvature and the step diverged); the right-hand side keeps the exact forces.
   body->evaluator.Linearize(body->state.positions, GeometricStiffness::kDropCompression);
   const double c = 0.5 * h * h + h * body->options.damping_beta;
-
+  // Colliders are at their mid-substep poses (Substep placed them), as in the contact stage.
+  std::vector<ContactNormal> held = DeepestColliderContacts(*body);
+  Eigen::Matrix3Xd residual;
+  const int iterations = SolveImplicitKick(body, h, t0, c, &held, &residual);
+  // A free node takes dv, a held contact too (no normal velocity relative to its collider).
+  // A kinematic node takes the velocity the forces (with dv) would give it: dv minus the
+  // constraint's impulse (-residual) over its mass, for DriveKinematicGroups to record the
+  // group's reaction as in the explicit kick.
   const Eigen::Matrix3Xd free = FreeDofMask(body->constrained);
-  if (body->implicit_dv.cols() != n) body->implicit_dv = Eigen::Matrix3Xd::Zero(3, n);
-  // Warm start from the last substep's dv; the kinematic nodes' dv is known.
-  Eigen::Matrix3Xd& dv = body->implicit_dv;
-  dv = free.cwiseProduct(dv) + PrescribedVelocityChanges(*body, h, t0);
+  body->state.velocities += body->implicit_dv;
+  body->state.velocities +=
+      (Eigen::Matrix3Xd::Ones(3, n) - free).cwiseProduct(residual) * m.cwiseInverse().asDiagonal();
+  RespondToHeldContacts(body, held, residual);
+  return iterations;
+}
 
+int World::SolveImplicitKick(Body* body, double h, double t0, double c,
+                             std::vector<ContactNormal>* held, Eigen::Matrix3Xd* residual) {
+  const Eigen::VectorXd& m = body->model->masses();
+  const int n = body->model->num_nodes();
+  const Eigen::Matrix3Xd& v = body->state.velocities;
+  if (body->implicit_dv.cols() != n) body->implicit_dv = Eigen::Matrix3Xd::Zero(3, n);
+  Eigen::Matrix3Xd& dv = body->implicit_dv;  // warm start: the last substep's dv
+  DofProjection projection;
+  projection.free = FreeDofMask(body->constrained);
+  const Eigen::Matrix3Xd prescribed = PrescribedVelocityChanges(*body, h, t0);
   Eigen::Matrix3Xd stiffness_product(3, n);
-  const NodeArrayOperator apply = [&](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
-    body->evaluator.ApplyStiffness(v, &stiffness_product);
+  const NodeArrayOperator apply = [&](const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* out) {
+    body->evaluator.ApplyStiffness(x, &stiffness_product);
     *out = c * stiffness_product;
-    *out += v * m.asDiagonal();
+    *out += x * m.asDiagonal();
   };
   MaskedPcgOptions solver;
   solver.relative_tolerance = options_.implicit_tolerance;
   solver.max_iterations = options_.implicit_max_iterations;
   solver.reference_norm =
-      h * options_.gravity.norm() * free.row(0).cwiseProduct(m.transpose()).norm();
-  Eigen::Matrix3Xd residual;
-  const MaskedPcgReport report =
-      SolveMaskedPcg(apply, h * body->forces, free, InverseSystemDiagonal(body->evaluator, m, c),
-                     solver, &dv, &residual);
-  // A free node takes dv. A kinematic node takes the velocity the forces alone would give it,
-  // dv minus the constraint's impulse (-residual) over its mass, so that DriveKinematicGroups
-  // records the group's reaction as in the explicit kick.
-  body->state.velocities += dv;
-  body->state.velocities +=
-      (Eigen::Matrix3Xd::Ones(3, n) - free).cwiseProduct(residual) * m.cwiseInverse().asDiagonal();
-  return report.iterations;
+      h * options_.gravity.norm() * projection.free.row(0).cwiseProduct(m.transpose()).norm();
+  const Eigen::Matrix3Xd inverse_diagonal = InverseSystemDiagonal(body->evaluator, m, c);
+  const Eigen::Matrix3Xd b = h * body->forces;
+  int iterations = 0;
+  for (int pass = 0; pass < 2; ++pass) {
+    // The start: the warm start's free part, plus the held parts, known.
+    projection.free = FreeDofMask(body->constrained);
+    HoldContacts(v, *held, &projection, &dv);
+    projection.Apply(&dv);
+    dv += prescribed;
+    HoldContacts(v, *held, nullptr, &dv);
+    iterations +=
+        SolveMaskedPcg(apply, b, projection, inverse_diagonal, solver, &dv, residual).iterations;
+    // A hold that pulls the node into the collider is released, and the system solved again.
+    if (pass == 1 || !ReleasePullingContacts(*residual, held)) break;
+  }
+  return iterations;
+}
+
+void World::HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNormal>& held,
+                         DofProjection* projection, Eigen::Matrix3Xd* dv) {
+  if (projection != nullptr) {
+    projection->normals.clear();
+    for (const ContactNormal& contact : held) {
+      projection->normals.push_back({contact.node, contact.normal});
+    }
+    return;
+  }
+  // The held part of dv: (v + dv - v_collider) . n = 0.
+  for (const ContactNormal& contact : held) {
+    const Eigen::Vector3d relative = v.col(contact.node) - contact.velocity;
+    dv->col(contact.node) -= relative.dot(contact.normal) * contact.normal;
+  }
+}
+
+bool World::ReleasePullingContacts(const Eigen::Matrix3Xd& residual,
+                                   std::vector<ContactNormal>* held) {
+  // The hold's impulse on the node is -residual; along n it must push the node out.
+  const auto pulls = [&residual](const ContactNormal& contact) {
+    return contact.normal.dot(residual.col(contact.node)) >= 0.0;
+  };
+  const auto kept = std::remove_if(held->begin(), held->end(), pulls);
+  const bool changed = kept != held->end();
+  held->erase(kept, held->end());
+  return changed;
 }
 
 }  // namespace msm_sim::core

@@ -162,10 +162,13 @@ std::string World::CheckSane() const {
 
 void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time) {
   const double t0 = time_ + step_time;  // time_ stays at the step's start until it ends
+  // The implicit kick holds the contacts it detects at mid-substep, as the contact stage does.
+  const bool implicit = options_.integrator == Integrator::kImplicit;
+  if (implicit) PlaceCollidersAtMidSubstep(h, start_poses, step_time);
   for (Body& body : bodies_) {
     DriftHalf(&body, h, t0);         // 1
     ApplyPendingRestitution(&body);  // 2
-    if (options_.integrator == Integrator::kImplicit) {
+    if (implicit) {
       solver_iterations_ += ImplicitKick(&body, h, t0);  // 3-4 (world_implicit.cpp)
     } else {
       ComputeForces(&body);  // 3
@@ -239,11 +242,16 @@ void World::DriveKinematicGroups(Body* body, double h, double t0) const {
 void World::ResolveContacts(double h, const std::vector<Eigen::Isometry3d>& start_poses,
                             double step_time) {
   // Contacts at mid-substep positions, colliders at their mid-substep poses.
+  PlaceCollidersAtMidSubstep(h, start_poses, step_time);
+  for (Body& body : bodies_) CollideWithColliders(&body, &microcollisions_);
+  CollideNodes(&microcollisions_);
+}
+
+void World::PlaceCollidersAtMidSubstep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
+                                       double step_time) {
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     colliders_[c].pose = Advance(start_poses[c], colliders_[c], step_time + 0.5 * h);
   }
-  for (Body& body : bodies_) CollideWithColliders(&body, &microcollisions_);
-  CollideNodes(&microcollisions_);
 }
 
 void World::DriftHalfNotingFastest(Body* body, double h, double t0) const {

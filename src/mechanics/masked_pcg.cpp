@@ -11,8 +11,26 @@ double Dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) { return a.cwis
 
 }  // namespace
 
+void DofProjection::Apply(Eigen::Matrix3Xd* a) const {
+  *a = free.cwiseProduct(*a);
+  for (const NodeNormal& constraint : normals) {
+    auto column = a->col(constraint.node);
+    column -= constraint.normal.dot(column) * constraint.normal;
+  }
+}
+
 MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
                                const Eigen::Matrix3Xd& free,
+                               const Eigen::Matrix3Xd& inverse_diagonal,
+                               const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
+                               Eigen::Matrix3Xd* residual) {
+  DofProjection projection;
+  projection.free = free;
+  return SolveMaskedPcg(apply, b, projection, inverse_diagonal, options, x, residual);
+}
+
+MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
+                               const DofProjection& projection,
                                const Eigen::Matrix3Xd& inverse_diagonal,
                                const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
                                Eigen::Matrix3Xd* residual) {
@@ -20,25 +38,31 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
   Eigen::Matrix3Xd product(3, x->cols());
   apply(*x, &product);
   *residual = b - product;
-  Eigen::Matrix3Xd r = free.cwiseProduct(*residual);
-  const double reference =
-      std::max({free.cwiseProduct(b).norm(), r.norm(), options.reference_norm});
+  Eigen::Matrix3Xd r = *residual;
+  projection.Apply(&r);
+  Eigen::Matrix3Xd free_b = b;
+  projection.Apply(&free_b);
+  const double reference = std::max({free_b.norm(), r.norm(), options.reference_norm});
   const double threshold = options.relative_tolerance * reference;
   double r_norm = r.norm();
+  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range.
   Eigen::Matrix3Xd z = inverse_diagonal.cwiseProduct(r);
+  projection.Apply(&z);
   Eigen::Matrix3Xd p = z;
   double rz = Dot(r, z);
   while (r_norm > threshold && report.iterations < options.max_iterations) {
-    apply(p, &product);  // p is zero on the fixed DOFs, so this is A_free,free p on the free ones
+    apply(p, &product);  // p is in the range of S, so S A p is A restricted to it
     const double curvature = Dot(p, product);
     if (!(curvature > 0.0)) break;  // A not positive along p (or not finite): give up
     const double alpha = rz / curvature;
     *x += alpha * p;
     *residual -= alpha * product;
-    r = free.cwiseProduct(*residual);
+    r = *residual;
+    projection.Apply(&r);
     r_norm = r.norm();
     ++report.iterations;
     z = inverse_diagonal.cwiseProduct(r);
+    projection.Apply(&z);
     const double rz_next = Dot(r, z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;

@@ -3,6 +3,7 @@
 // (docs/physics.md §7.1), on 3 x N node arrays with some DOFs held fixed.
 
 #include <functional>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -24,6 +25,31 @@ struct MaskedPcgReport {
   double relative_residual = 0.0;
   bool converged = false;  ///< false: max_iterations reached, or A was not positive on a direction
 };
+
+/// The DOFs a solve may change, as a projection S applied node by node: element-wise by `free`
+/// (1 free, 0 fixed: a kinematic node has S_i = 0), then, for each entry of `normals`, S_i =
+/// I - n n^T on that node (its velocity change along the unit n is held; a contact).
+struct DofProjection {
+  struct NodeNormal {
+    Eigen::Index node;       ///< in [0, N), a node with free == 1 on all three DOFs
+    Eigen::Vector3d normal;  ///< unit
+  };
+  Eigen::Matrix3Xd free;            ///< 3 x N, entries 0 or 1
+  std::vector<NodeNormal> normals;  ///< at most one per node
+
+  /// *a = S *a (3 x N).
+  void Apply(Eigen::Matrix3Xd* a) const;
+};
+
+/// SolveMaskedPcg below with a per-node projection: the fixed part of *x (its component outside
+/// the range of S) is held at the value it comes in with, and *residual is b - A x on every DOF
+/// (its component outside the range of S is minus the constraint's impulse). Preconditions as
+/// below, with "free DOFs" read as "the range of S".
+MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
+                               const DofProjection& projection,
+                               const Eigen::Matrix3Xd& inverse_diagonal,
+                               const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
+                               Eigen::Matrix3Xd* residual);
 
 /// Solves A x = b on the free DOFs (free(d, i) == 1; 0 where fixed) by conjugate gradient with
 /// the diagonal preconditioner `inverse_diagonal` (an approximation of 1 / diag A), holding the

@@ -11,6 +11,7 @@
 
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
+#include "msm_sim/experiments/indentation_experiment.h"
 #include "msm_sim/experiments/slide_experiment.h"
 #include "msm_sim/mechanics/dof_constraints.h"
 #include "msm_sim/mechanics/static_solver.h"
@@ -236,6 +237,26 @@ TEST(ImplicitIntegrator, SlidingBoxStopsAfterTheCoulombDistance) {
 }
 
 // (d) As the explicit Steps test: an absurd push is rejected and the state restored bit for bit.
+// The contacts are held in the implicit solve (§7.1): at 1 ms steps a sphere pressed into a
+// coarse block meets the explicit integrator's force (before, 43-57 % below it).
+TEST(ImplicitIntegrator, IndentationForceMatchesTheExplicitIntegrator) {
+  const auto model = Block(Eigen::Vector3d(0.1, 0.1, 0.05), 0.02, 0.25);
+  IndentationExperimentOptions options;
+  options.depth = 0.005;
+  options.samples = 10;
+  const IndentationExperimentResult explicit_run = RunIndentationExperiment(model, options);
+  options.integrator = Integrator::kImplicit;
+  const IndentationExperimentResult implicit_run = RunIndentationExperiment(model, options);
+  ASSERT_FALSE(explicit_run.profile.empty());
+  ASSERT_FALSE(implicit_run.profile.empty());
+  const double expected = explicit_run.profile.back().force;
+  std::printf("  %.2f mm deep: implicit %.3f N, explicit %.3f N (%+.2f %%)\n",
+              1e3 * implicit_run.profile.back().depth, implicit_run.profile.back().force, expected,
+              100 * (implicit_run.profile.back().force / expected - 1));
+  ASSERT_GT(expected, 0.0);
+  EXPECT_NEAR(implicit_run.profile.back().force, expected, 0.05 * expected);
+}
+
 TEST(ImplicitIntegrator, AbsurdForceIsRejectedAndTheStateKept) {
   World world(ImplicitOptions(1e-3, 9.81));
   const int body = world.AddBody("block", Block(Eigen::Vector3d(0.04, 0.04, 0.02), 0.01, 0.3));

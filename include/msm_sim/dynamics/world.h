@@ -17,6 +17,8 @@
 
 namespace msm_sim::core {
 
+struct DofProjection;  // mechanics/masked_pcg.h (private)
+
 /// How a body moves, besides its Model (which fixes masses and springs).
 struct BodyOptions {
   double damping_beta = 0.0;  ///< s: spring dampers c = beta k (docs/physics.md §7)
@@ -290,6 +292,45 @@ class World {
   /// velocity the forces (with dv) would give it, for DriveKinematicGroups to record the
   /// reaction. Returns the solver's iterations. Precondition: steps 1-2 of this substep done.
   int ImplicitKick(Body* body, double h, double t0);
+  /// A free border node's deepest collider contact, held along its normal in the implicit solve.
+  struct ContactNormal {
+    NodeIndex node;
+    Eigen::Vector3d normal;    // unit, out of the collider
+    Eigen::Vector3d velocity;  // of the collider's material at the contact point
+    Eigen::Vector3d point;     // on the collider's surface
+    int collider;
+    double approach;  // normal speed towards the collider before the kick (m/s, >= 0)
+    double friction;  // Coulomb coefficient of the pair
+  };
+  /// The deepest collider contact of each free border node of body at its current (mid-substep)
+  /// position, detected as CollideWithColliders does. Precondition: colliders at their
+  /// mid-substep poses (PlaceCollidersAtMidSubstep).
+  std::vector<ContactNormal> DeepestColliderContacts(const Body& body) const;
+  /// Solves (M + c K) dv = h F into body->implicit_dv with the kinematic nodes and the
+  /// contacts in *held held (a held node ends with no normal velocity relative to its
+  /// collider), releasing the contacts whose constraint pulls and solving once more if any was.
+  /// *held ends as the contacts held in the last solve, *residual as h F - (M + c K) dv. Returns
+  /// the solver's iterations. Precondition: body->forces and the stiffness linearised.
+  int SolveImplicitKick(Body* body, double h, double t0, double c, std::vector<ContactNormal>* held,
+                        Eigen::Matrix3Xd* residual);
+  /// With a projection: holds the held contacts' normals in it; without: sets the held part of
+  /// *dv, no normal velocity relative to the collider.
+  static void HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNormal>& held,
+                           DofProjection* projection, Eigen::Matrix3Xd* dv);
+  /// Removes from *held the contacts whose hold pulls the node into the collider after a solve
+  /// with this residual (b - A dv); returns whether there was any.
+  static bool ReleasePullingContacts(const Eigen::Matrix3Xd& residual,
+                                     std::vector<ContactNormal>* held);
+  /// Records each held contact's impulse (-residual . n, when it pushes) in its collider's
+  /// wrench, with friction up to mu times it (never reversing the sliding) and the restitution
+  /// of its approach before the kick pending, as RespondToColliderContact does for the contact
+  /// stage. Precondition: the held nodes' velocities are v + dv.
+  void RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
+                             const Eigen::Matrix3Xd& residual);
+  /// Moves every collider to its pose at the middle of the substep [step_time, step_time + h]
+  /// of the Step that started with start_poses.
+  void PlaceCollidersAtMidSubstep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
+                                  double step_time);
   /// The velocity change (m/s, 3 x N) a kinematic group prescribes to its nodes over the
   /// substep [t0, t0 + h] (zero columns for free nodes).
   Eigen::Matrix3Xd PrescribedVelocityChanges(const Body& body, double h, double t0) const;
