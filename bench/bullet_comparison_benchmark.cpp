@@ -115,10 +115,8 @@ struct MsmScene {
     BodyOptions options;
     options.damping_beta = kDampingBeta;
     body = world.AddBody("block", model, options);
-    Collider ground;
-    ground.name = "ground";
-    ground_height = LowestSphereBottom(model->rest_positions(), world.border(body));
-    ground.pose.translation().z() = ground_height;
+    const Collider ground = GroundTouching(model->rest_positions(), world.border(body));
+    ground_height = ground.pose.translation().z();
     world.AddCollider(ground);
     step = world.stable_time_step();
     for (int settle = 0; settle < kSettleSteps; ++settle) world.Step(step);  // in contact, loaded

@@ -23,10 +23,7 @@ void BM_DynamicsStep12k(benchmark::State& state) {
   BodyOptions options;
   options.damping_beta = 1e-4;
   const int body = world.AddBody("block", model, options);
-  Collider ground;
-  ground.name = "ground";
-  ground.pose.translation().z() = LowestSphereBottom(model->rest_positions(), world.border(body));
-  world.AddCollider(ground);
+  world.AddCollider(GroundTouching(model->rest_positions(), world.border(body)));
   const double step = world.stable_time_step();
   for (int settle = 0; settle < 200; ++settle) world.Step(step);  // in contact, loaded
   int contacts = 0;

@@ -38,10 +38,7 @@ struct ScalingScene {
     BodyOptions options;
     options.damping_beta = 1e-4;
     body = world.AddBody("block", model, options);
-    Collider ground;
-    ground.name = "ground";
-    ground.pose.translation().z() = LowestSphereBottom(model->rest_positions(), world.border(body));
-    world.AddCollider(ground);
+    world.AddCollider(GroundTouching(model->rest_positions(), world.border(body)));
     step = world.stable_time_step();
     build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     for (int settle = 0; settle < kSettleSteps; ++settle) world.Step(step);

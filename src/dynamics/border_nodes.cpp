@@ -38,6 +38,15 @@ double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& 
   return lowest;
 }
 
+Collider GroundTouching(const Eigen::Matrix3Xd& positions, const BorderNodes& border,
+                        double friction) {
+  Collider ground;
+  ground.name = "ground";
+  ground.friction = friction;
+  ground.pose.translation().z() = LowestSphereBottom(positions, border);
+  return ground;
+}
+
 double SphereTouchdownHeight(const Eigen::Matrix3Xd& positions, const BorderNodes& border,
                              const Eigen::Vector2d& axis, double radius) {
   double height = -std::numeric_limits<double>::infinity();

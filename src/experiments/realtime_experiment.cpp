@@ -23,15 +23,6 @@ void CheckOptions(const RealtimeExperimentOptions& options) {
   }
 }
 
-// The ground plane touching the lowest collision sphere.
-Collider Ground(const Model& model, const BorderNodes& border, double friction) {
-  Collider ground;
-  ground.name = "ground";
-  ground.friction = friction;
-  ground.pose.translation().z() = LowestSphereBottom(model.rest_positions(), border);
-  return ground;
-}
-
 }  // namespace
 
 RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> model,
@@ -47,7 +38,7 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   body_options.dispersion = options.dispersion;
   body_options.friction = options.friction;
   const int body = world.AddBody("block", model, body_options);
-  world.AddCollider(Ground(*model, world.border(body), options.friction));
+  world.AddCollider(GroundTouching(model->rest_positions(), world.border(body), options.friction));
   Collider sphere =
       SphereIndenter(*model, world.border(body), options.sphere_radius, 0.0, options.speed);
   sphere.friction = options.friction;

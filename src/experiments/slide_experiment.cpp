@@ -32,13 +32,8 @@ SlideExperimentResult RunSlideExperiment(std::shared_ptr<const Model> model,
   body_options.friction = options.friction;
   const int body = world.AddBody("body", model, body_options);
 
-  // The ground touches the collision sphere of the lowest border node.
-  const double ground = LowestSphereBottom(model->rest_positions(), world.border(body));
-  Collider plane;
-  plane.name = "ground";
-  plane.friction = options.friction;
-  plane.pose.translation() = Eigen::Vector3d(0.0, 0.0, ground);
-  const int ground_index = world.AddCollider(plane);
+  const int ground_index = world.AddCollider(
+      GroundTouching(model->rest_positions(), world.border(body), options.friction));
   world.SetPairFriction(body, ground_index, options.friction);
 
   State state = world.state(body);

@@ -260,11 +260,7 @@ TEST(ImplicitIntegrator, IndentationForceMatchesTheExplicitIntegrator) {
 TEST(ImplicitIntegrator, AbsurdForceIsRejectedAndTheStateKept) {
   World world(ImplicitOptions(1e-3, 9.81));
   const int body = world.AddBody("block", Block(Eigen::Vector3d(0.04, 0.04, 0.02), 0.01, 0.3));
-  Collider ground;
-  ground.name = "ground";
-  ground.pose.translation().z() =
-      LowestSphereBottom(world.state(body).positions, world.border(body));
-  world.AddCollider(ground);
+  world.AddCollider(GroundTouching(world.state(body).positions, world.border(body)));
   for (int step = 0; step < 10; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
   const State before = world.state(body);
   const double time = world.time();

@@ -12,24 +12,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../run_command.h"
 #include "lab_arguments.h"
 #include "msm_sim/geometry/mesh_import.h"
 #include "msm_sim/model/model_file.h"
+#include "run_lab.h"
 
 namespace {
 
-using LabRun = msm_sim::testing::CommandRun;
-
-LabRun RunLab(const std::string& arguments) {
-  return msm_sim::testing::RunCommand(std::string(MSM_LAB_EXECUTABLE) + " " + arguments);
-}
-
-int CountLines(const std::string& text) {
-  int lines = 0;
-  for (char c : text) lines += c == '\n';
-  return lines;
-}
+using msm_sim::testing::CountLines;
+using msm_sim::testing::LabRun;
+using msm_sim::testing::RunLab;
 
 const char* kCubic =
     "compression --model cubic --size 1 0.5 0.5 --spacing 0.0625 --youngs 2e5 --poisson 0.25";

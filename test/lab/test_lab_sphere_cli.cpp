@@ -7,21 +7,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "../run_command.h"
+#include "run_lab.h"
 
 namespace {
 
-using LabRun = msm_sim::testing::CommandRun;
-
-LabRun RunLab(const std::string& arguments) {
-  return msm_sim::testing::RunCommand(std::string(MSM_LAB_EXECUTABLE) + " " + arguments);
-}
-
-int CountLines(const std::string& text) {
-  int lines = 0;
-  for (char c : text) lines += c == '\n';
-  return lines;
-}
+using msm_sim::testing::CountLines;
+using msm_sim::testing::LabRun;
+using msm_sim::testing::RunLab;
 
 // 4 x 4 x 2 cm at a = 5 mm: 256 nodes.
 const std::string kSmallBlock = "--size 0.04 0.04 0.02 --spacing 0.005 --poisson 0.25";

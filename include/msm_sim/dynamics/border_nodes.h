@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/dynamics/collider.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -24,6 +25,12 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance = 0.25);
 /// Lowest z (m) reached by any border node's collision sphere with the nodes at `positions`
 /// (3 x N): where a ground plane just touches the body. +infinity without border nodes.
 double LowestSphereBottom(const Eigen::Matrix3Xd& positions, const BorderNodes& border);
+
+/// The ground a body at `positions` rests on: a plane collider named "ground" with Coulomb
+/// coefficient `friction`, its surface at LowestSphereBottom (it just touches the body).
+/// Precondition: border has at least one node.
+Collider GroundTouching(const Eigen::Matrix3Xd& positions, const BorderNodes& border,
+                        double friction = 0.5);
 
 /// Height (m) of the centre of a rigid sphere of `radius` (m, > 0) lowered along -z through
 /// (x, y) = `axis` when it first touches a border node's collision sphere, the nodes at
