@@ -48,14 +48,17 @@ void BM_CompressionRandom16k(benchmark::State& state) {
 }
 BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 
-// Times AccumulateForces on the model compressed uniformly by 1 %.
-void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state) {
-  ForceEvaluator evaluator(model, passes);
+// Times AccumulateForces on the model compressed uniformly by 1 %, with spring dampers
+// (beta = 1e-4 s, as in a dynamics step) at random velocities when `damped`.
+void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state,
+                          SpringKernels kernels = SpringKernels::kAuto, bool damped = false) {
+  ForceEvaluator evaluator(model, passes, kernels);
   const Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
+  const Eigen::Matrix3Xd velocities = 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_nodes());
   Eigen::Matrix3Xd forces(3, model.num_nodes());
   for (auto _ : state) {
     forces.setZero();
-    evaluator.AccumulateForces(positions, &forces);
+    evaluator.AccumulateForces(positions, velocities, damped ? 1e-4 : 0.0, &forces);
     benchmark::DoNotOptimize(forces.data());
     benchmark::ClobberMemory();
   }
@@ -66,15 +69,32 @@ void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark
 // One force evaluation on a node-centred cubic block 2 x 1 x 1 m at a = 1/18 m (11,664 nodes,
 // 96,579 springs): plain MSM (nu = 1/4) against the eMSM (nu = 0.45) with two-pass and one-pass
 // dispersion, and the non-linear spring law. Issue target: eMSM <= 1.6 x plain.
-void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPasses passes,
-                           SpringLaw law) {
+Model Block12k(double poisson, SpringLaw law = SpringLaw::kLinear) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
   lattice.spacing = 1.0 / 18.0;
   lattice.spring_law = law;
-  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice);
-  TimeForceEvaluations(model, passes, state);
+  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice);
 }
+
+void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPasses passes,
+                           SpringLaw law) {
+  TimeForceEvaluations(Block12k(poisson, law), passes, state);
+}
+
+// The run kernels against the per-spring loops on the same block, with dampers as in a step
+// (run with --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true to compare).
+void BM_SpringKernels12k(benchmark::State& state, double poisson, SpringKernels kernels) {
+  TimeForceEvaluations(Block12k(poisson), DispersionPasses::kTwoPass, state, kernels, true);
+}
+BENCHMARK_CAPTURE(BM_SpringKernels12k, plain_per_spring, 0.25, SpringKernels::kPerSpring)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SpringKernels12k, plain_runs, 0.25, SpringKernels::kAuto)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SpringKernels12k, emsm_per_spring, 0.45, SpringKernels::kPerSpring)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SpringKernels12k, emsm_runs, 0.45, SpringKernels::kAuto)
+    ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain, 0.25, DispersionPasses::kTwoPass,
                   SpringLaw::kLinear)
     ->Unit(benchmark::kMicrosecond);

@@ -5,12 +5,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <utility>
 
 #include <omp.h>
 
+#include "mechanics/force_kernels.h"
+
 namespace msm_sim::core {
 
-ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
+ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, SpringKernels kernels)
     : model_(&model), passes_(passes) {
   const int n = model.num_nodes();
   const int num_springs = model.num_springs();
@@ -47,6 +51,34 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes)
   directions_.setZero(3, num_springs);
   lengths_.setZero(num_springs);
   tangent_stiffness_.setZero(num_springs);
+  // The run kernels know linear springs only, and the Baudet pass adds to model-order tensions.
+  if (kernels == SpringKernels::kAuto && model.spring_law() == SpringLaw::kLinear &&
+      model.correction_edges().empty()) {
+    SpringSchedule schedule = ScheduleSprings(model);
+    if (schedule.vectorisable()) {
+      auto data = std::make_shared<ScheduledSpringData>();
+      data->rest = schedule.ToSchedule(model.spring_rest_length().data());
+      data->stiffness = schedule.ToSchedule(model.spring_stiffness().data());
+      data->inflow_a = schedule.ToScheduleEnd(inflow_a_.data(), inflow_b_.data());
+      data->inflow_b = schedule.ToScheduleEnd(inflow_b_.data(), inflow_a_.data());
+      data->outflow_a = schedule.ToScheduleEnd(outflow_a_.data(), outflow_b_.data());
+      data->outflow_b = schedule.ToScheduleEnd(outflow_b_.data(), outflow_a_.data());
+      data->schedule = std::move(schedule);
+      scheduled_ = std::move(data);
+      scheduled_totals_.setZero(num_springs);
+    }
+  }
+}
+
+const Eigen::VectorXd& ForceEvaluator::total_tensions() const {
+  if (totals_scheduled_) {
+    const std::vector<SpringIndex>& model_index = scheduled_->schedule.model_index;
+    for (std::size_t p = 0; p < model_index.size(); ++p) {
+      total_tensions_[model_index[p]] = scheduled_totals_[static_cast<Eigen::Index>(p)];
+    }
+    totals_scheduled_ = false;
+  }
+  return total_tensions_;
 }
 
 // The hot loops below work on raw, non-aliasing pointers: through Eigen column blocks of a
@@ -94,14 +126,19 @@ inline double DampingTension(const ForceEvaluator::Damping& damping, const Sprin
 
 template <typename Body>
 void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&& body) {
-  const int count = model_->num_springs();
-  const int threads = count >= kParallelSprings ? std::min(omp_get_max_threads(), kMaxThreads) : 1;
+  ForShares(model_->num_springs(), target, target_size, std::forward<Body>(body));
+}
+
+template <typename Body>
+void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_size, Body&& body) {
+  const int threads =
+      model_->num_springs() >= kParallelSprings ? std::min(omp_get_max_threads(), kMaxThreads) : 1;
   if (threads <= 1) {
     body(0, count, target);
     return;
   }
-  // Each thread takes a fixed, contiguous share of the springs (they are numbered node by node,
-  // so the shares touch mostly different nodes) and scatters into its own buffer; the buffers
+  // Each thread takes a fixed, contiguous share of the springs or runs (both ordered by node, so
+  // the shares touch mostly different nodes) and scatters into its own buffer; the buffers
   // are added in thread order, so a given thread count always gives the same sums.
   scratch_.resize(threads - 1);
   for (Eigen::VectorXd& buffer : scratch_) buffer.setZero(target_size);
@@ -254,6 +291,14 @@ void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions,
 template <bool Damped>
 void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                 Eigen::Matrix3Xd* forces) {
+  const bool dispersion = model_->dispersion_fraction() != 0.0;
+  const bool lagged = passes_ == DispersionPasses::kOnePass && has_previous_dispersion_;
+  if (scheduled_ && !(dispersion && lagged)) {
+    AccumulateRuns(positions, damping, forces);
+    has_previous_dispersion_ = dispersion;
+    return;
+  }
+  totals_scheduled_ = false;
   const bool linear = model_->spring_law() == SpringLaw::kLinear;
   if (model_->dispersion_fraction() == 0.0) {
     linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
@@ -275,6 +320,66 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
   }
   has_previous_dispersion_ = true;
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
+}
+
+namespace {
+
+// Copies n column-major 3-vectors into x, y, z blocks of n (the run kernels' layout).
+void ToNodeArrays(const double* vectors, Eigen::Index n, double* arrays) {
+  const double* __restrict from = vectors;
+  double* __restrict to = arrays;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    to[i] = from[3 * i];
+    to[n + i] = from[3 * i + 1];
+    to[2 * n + i] = from[3 * i + 2];
+  }
+}
+
+}  // namespace
+
+void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                    Eigen::Matrix3Xd* forces) {
+  const Eigen::Index n = model_->num_nodes();
+  node_arrays_.resize(9 * n);
+  double* x = node_arrays_.data();
+  double* v = x + 3 * n;
+  double* f = x + 6 * n;
+  ToNodeArrays(positions.data(), n, x);
+  const NodeArrays x_arrays{x, x + n, x + 2 * n};
+  const NodeArrays v_arrays{v, v + n, v + 2 * n};
+  RunDamping run_damping{nullptr, damping.beta};
+  if (damping.velocities != nullptr) {
+    ToNodeArrays(damping.velocities, n, v);
+    run_damping.velocities = &v_arrays;
+  }
+  std::fill(f, f + 3 * n, 0.0);
+  const ScheduledSprings springs = scheduled_->View();
+  const int num_runs = static_cast<int>(scheduled_->schedule.runs.size());
+  double* totals = scheduled_totals_.data();
+  if (model_->dispersion_fraction() == 0.0) {
+    ForShares(num_runs, f, 3 * n, [&](int begin, int end, double* target) {
+      PlainRuns(springs, begin, end, x_arrays, run_damping, {target, target + n, target + 2 * n},
+                totals);
+    });
+  } else {
+    accumulator_.setZero();
+    ForShares(num_runs, accumulator_.data(), n, [&](int begin, int end, double* target) {
+      InflowRuns(springs, begin, end, x_arrays, tensions_.data(), inverse_lengths_.data(), target);
+    });
+    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
+    ForShares(num_runs, f, 3 * n, [&](int begin, int end, double* target) {
+      OutflowRuns(springs, begin, end, x_arrays, run_damping, dispersion_per_weight_.data(),
+                  tensions_.data(), inverse_lengths_.data(), {target, target + n, target + 2 * n},
+                  totals);
+    });
+  }
+  double* __restrict out = forces->data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    out[3 * i] += f[i];
+    out[3 * i + 1] += f[n + i];
+    out[3 * i + 2] += f[2 * n + i];
+  }
+  totals_scheduled_ = true;
 }
 
 }  // namespace msm_sim::core

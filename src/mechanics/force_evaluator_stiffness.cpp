@@ -77,7 +77,7 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
   model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
                                              : LinearizeImpl<SpringLaw::kNonlinear>(positions);
   geometric_tensions_ =
-      geometric == GeometricStiffness::kExact ? total_tensions_ : total_tensions_.cwiseMax(0.0);
+      geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
 }
 
 void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {

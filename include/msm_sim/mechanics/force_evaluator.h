@@ -1,5 +1,6 @@
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -8,6 +9,8 @@
 
 namespace msm_sim::core {
 
+struct ScheduledSpringData;
+
 /// How a force evaluation computes the eMSM momentum dispersion (docs/physics.md §3).
 enum class DispersionPasses {
   /// Exact: a second loop over the springs redistributes this evaluation's accumulators.
@@ -15,6 +18,15 @@ enum class DispersionPasses {
   /// One loop: redistributes the accumulators of the previous evaluation (the first evaluation
   /// is two-pass). About half the cost of the second pass, one evaluation of lag.
   kOnePass,
+};
+
+/// Which loops evaluate the springs' forces.
+enum class SpringKernels {
+  /// The vectorised run kernels where the model suits them (linear springs in rows, no Baudet
+  /// elements), the per-spring loops otherwise.
+  kAuto,
+  /// Always the per-spring loops: the reference the run kernels are tested and timed against.
+  kPerSpring,
 };
 
 /// Which geometric stiffness (T / L across each spring, T its total tension) Linearize keeps.
@@ -34,12 +46,18 @@ enum class GeometricStiffness {
 /// is the paper's algorithm. Baudet correction elements (Model::correction_edges) add their
 /// coupled edge tensions after the springs.
 ///
+/// Linear springs on a lattice whose springs line up in rows (cubic lattices) are evaluated by
+/// vectorised kernels over a re-ordered copy of the springs; other models (random lattices,
+/// carrier springs, Baudet elements, the one-pass lag) by per-spring loops. Both give the same
+/// forces up to rounding.
+///
 /// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
 /// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
 /// model.num_nodes() columns and no spring has zero length.
 class ForceEvaluator {
  public:
-  explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass);
+  explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
+                          SpringKernels kernels = SpringKernels::kAuto);
 
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
@@ -59,7 +77,7 @@ class ForceEvaluator {
   /// Total tension of every spring at the last AccumulateForces (N, > 0 stretched): direct plus
   /// dispersed plus Baudet correction, what measurements such as momentum flow and Hardy stress
   /// must sum.
-  const Eigen::VectorXd& total_tensions() const { return total_tensions_; }
+  const Eigen::VectorXd& total_tensions() const;
 
   /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness and
   /// StiffnessDiagonal (with the geometric stiffness `geometric` asks for).
@@ -95,6 +113,12 @@ class ForceEvaluator {
   /// large models, each thread scattering into its own copy of `target` (summed afterwards).
   template <typename Body>
   void ForSprings(double* target, Eigen::Index target_size, Body&& body);
+  /// The same over `count` work items (springs or runs); threads as for the model's springs.
+  template <typename Body>
+  void ForShares(int count, double* target, Eigen::Index target_size, Body&& body);
+  /// The vectorised evaluation (plain or two-pass eMSM) over the spring schedule.
+  void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                      Eigen::Matrix3Xd* forces);
 
   template <bool Damped>
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -122,12 +146,19 @@ class ForceEvaluator {
   // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 = v k L0 at each end,
   // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
   Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
-  Eigen::VectorXd inverse_star_weight_;    // 1 / W per node
-  Eigen::VectorXd tensions_;               // direct tensions (two-pass)
-  Eigen::VectorXd inverse_lengths_;        // 1 / L (two-pass)
-  Eigen::VectorXd total_tensions_;         // direct + dispersed
-  Eigen::VectorXd geometric_tensions_;     // T of the geometric stiffness (Linearize)
-  Eigen::VectorXd accumulator_;            // J per node
+  Eigen::VectorXd inverse_star_weight_;  // 1 / W per node
+  Eigen::VectorXd tensions_;             // direct tensions (two-pass), in evaluation order
+  Eigen::VectorXd inverse_lengths_;      // 1 / L (two-pass), in evaluation order
+  // Direct + dispersed, in model order. After a vectorised evaluation they are in
+  // scheduled_totals_ and copied here when first asked for.
+  mutable Eigen::VectorXd total_tensions_;
+  mutable bool totals_scheduled_ = false;
+  Eigen::VectorXd scheduled_totals_;
+  // Null unless the model suits the run kernels.
+  std::shared_ptr<const ScheduledSpringData> scheduled_;
+  Eigen::VectorXd node_arrays_;         // positions, velocities, forces as x, y, z blocks of N each
+  Eigen::VectorXd geometric_tensions_;  // T of the geometric stiffness (Linearize)
+  Eigen::VectorXd accumulator_;         // J per node
   Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
   bool has_previous_dispersion_ = false;
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
