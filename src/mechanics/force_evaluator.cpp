@@ -322,21 +322,6 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
 }
 
-namespace {
-
-// Copies n column-major 3-vectors into x, y, z blocks of n (the run kernels' layout).
-void ToNodeArrays(const double* vectors, Eigen::Index n, double* arrays) {
-  const double* __restrict from = vectors;
-  double* __restrict to = arrays;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    to[i] = from[3 * i];
-    to[n + i] = from[3 * i + 1];
-    to[2 * n + i] = from[3 * i + 2];
-  }
-}
-
-}  // namespace
-
 void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                     Eigen::Matrix3Xd* forces) {
   const Eigen::Index n = model_->num_nodes();
@@ -373,12 +358,7 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
                   totals);
     });
   }
-  double* __restrict out = forces->data();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    out[3 * i] += f[i];
-    out[3 * i + 1] += f[n + i];
-    out[3 * i + 2] += f[2 * n + i];
-  }
+  AddNodeArrays(f, n, forces->data());
   totals_scheduled_ = true;
 }
 

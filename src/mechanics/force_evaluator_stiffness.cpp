@@ -3,7 +3,10 @@
 
 #include "msm_sim/mechanics/force_evaluator.h"
 
+#include <algorithm>
 #include <cstddef>
+
+#include "mechanics/force_kernels.h"
 
 namespace msm_sim::core {
 
@@ -78,9 +81,51 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
                                              : LinearizeImpl<SpringLaw::kNonlinear>(positions);
   geometric_tensions_ =
       geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
+  if (scheduled_) {
+    // AccumulateForces above left the total tensions in schedule order too.
+    const int count = model_->num_springs();
+    scheduled_linearization_.resize(4 * static_cast<Eigen::Index>(count));
+    const Eigen::Index n = model_->num_nodes();
+    node_arrays_.resize(9 * n);
+    ToNodeArrays(positions.data(), n, node_arrays_.data());
+    const double* x = node_arrays_.data();
+    LinearizeRuns(scheduled_->View(), 0, static_cast<int>(scheduled_->schedule.runs.size()), count,
+                  {x, x + n, x + 2 * n}, scheduled_totals_.data(),
+                  geometric == GeometricStiffness::kDropCompression,
+                  scheduled_linearization_.data());
+  }
+}
+
+void ForceEvaluator::ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
+  const Eigen::Index n = model_->num_nodes();
+  stiffness_arrays_.resize(6 * n);
+  double* dv = stiffness_arrays_.data();
+  double* product = dv + 3 * n;
+  ToNodeArrays(v.data(), n, dv);
+  std::fill(product, product + 3 * n, 0.0);
+  const ScheduledSprings springs = scheduled_->View();
+  const int runs = static_cast<int>(scheduled_->schedule.runs.size());
+  const ScheduledLinearization linearization =
+      ScheduledLinearization::Of(scheduled_linearization_.data(), model_->num_springs());
+  const MutableNodeArrays product_arrays{product, product + n, product + 2 * n};
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  if (disperse) accumulator_change_.setZero(n);
+  StiffnessRuns(springs, 0, runs, linearization, {dv, dv + n, dv + 2 * n}, product_arrays,
+                disperse ? accumulator_change_.data() : nullptr);
+  if (disperse) {
+    accumulator_change_.array() *= inverse_star_weight_.array();  // dg = dJ / W
+    DispersedStiffnessRuns(springs, 0, runs, linearization, accumulator_change_.data(),
+                           product_arrays);
+  }
+  out->setZero(3, n);
+  AddNodeArrays(product, n, out->data());
 }
 
 void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
+  if (scheduled_) {
+    ApplyStiffnessRuns(v, out);
+    return;
+  }
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const bool disperse = model_->dispersion_fraction() != 0.0;

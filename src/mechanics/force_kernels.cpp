@@ -6,6 +6,7 @@
 
 #include "mechanics/force_kernels.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace msm_sim::core {
@@ -183,6 +184,104 @@ void OutflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
   } else {
     OutflowRunsImpl<false>(springs, run_begin, run_end, positions, damping, dispersion_per_weight,
                            tensions, inverse_lengths, forces, total_tensions);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
+void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, int num_springs,
+                   const NodeArrays& positions, const double* total_tensions, bool drop_compression,
+                   double* storage) {
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = springs.runs[r];
+    const double* __restrict px = positions.x + run.a0;
+    const double* __restrict py = positions.y + run.a0;
+    const double* __restrict pz = positions.z + run.a0;
+    const double* __restrict total = total_tensions + run.first;
+    double* __restrict ux = storage + run.first;
+    double* __restrict uy = ux + num_springs;
+    double* __restrict uz = uy + num_springs;
+    double* __restrict geometric = uz + num_springs;
+    const int d = run.offset, n = run.count;
+    for (int i = 0; i < n; ++i) {
+      const double rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+      const double inverse_length = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
+      ux[i] = rx * inverse_length;
+      uy[i] = ry * inverse_length;
+      uz[i] = rz * inverse_length;
+      const double t = drop_compression ? std::max(total[i], 0.0) : total[i];
+      geometric[i] = t * inverse_length;
+    }
+  }
+}
+
+namespace {
+
+// One run of the direct stiffness product; node arrays start at the run's a0.
+inline __attribute__((always_inline)) void StiffnessRun(
+    int n, int offset, const double* __restrict k, const double* __restrict ux,
+    const double* __restrict uy, const double* __restrict uz, const double* __restrict geometric,
+    const double* __restrict vx, const double* __restrict vy, const double* __restrict vz,
+    RunForces* __restrict c, double* __restrict rate) {
+  for (int i = 0; i < n; ++i) {
+    const double dx = vx[i + offset] - vx[i];
+    const double dy = vy[i + offset] - vy[i];
+    const double dz = vz[i + offset] - vz[i];
+    const double stretch = ux[i] * dx + uy[i] * dy + uz[i] * dz;
+    const double along = k[i] * stretch - geometric[i] * stretch;
+    rate[i] = k[i] * stretch;
+    // K dv on node a: -(k (u.dv) u + (T / L)(dv - u (u.dv))); node b gets the opposite.
+    c->x[i] = -(along * ux[i] + geometric[i] * dx);
+    c->y[i] = -(along * uy[i] + geometric[i] * dy);
+    c->z[i] = -(along * uz[i] + geometric[i] * dz);
+  }
+}
+
+}  // namespace
+
+MSM_SIM_SIMD_CLONES
+void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
+                   const ScheduledLinearization& linearization, const NodeArrays& dv,
+                   const MutableNodeArrays& out, double* accumulator_change) {
+  RunForces c;
+  alignas(64) double rate[kMax];
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = springs.runs[r];
+    const int f = run.first;
+    StiffnessRun(run.count, run.offset, springs.stiffness + f, linearization.ux + f,
+                 linearization.uy + f, linearization.uz + f, linearization.geometric + f,
+                 dv.x + run.a0, dv.y + run.a0, dv.z + run.a0, &c, rate);
+    ApplyToEnds(run, c, out);
+    if (accumulator_change == nullptr) continue;
+    double* __restrict ja = accumulator_change + run.a0;
+    double* __restrict jb = ja + run.offset;
+    const double* __restrict in_a = springs.inflow_a + f;
+    const double* __restrict in_b = springs.inflow_b + f;
+    for (int i = 0; i < run.count; ++i) ja[i] += in_a[i] * rate[i];
+    for (int i = 0; i < run.count; ++i) jb[i] += in_b[i] * rate[i];
+  }
+}
+
+MSM_SIM_SIMD_CLONES
+void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
+                            const ScheduledLinearization& linearization, const double* dg,
+                            const MutableNodeArrays& out) {
+  RunForces c;
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = springs.runs[r];
+    const double* __restrict out_a = springs.outflow_a + run.first;
+    const double* __restrict out_b = springs.outflow_b + run.first;
+    const double* __restrict ga = dg + run.a0;
+    const double* __restrict gb = ga + run.offset;
+    const double* __restrict ux = linearization.ux + run.first;
+    const double* __restrict uy = linearization.uy + run.first;
+    const double* __restrict uz = linearization.uz + run.first;
+    for (int i = 0; i < run.count; ++i) {
+      const double change = out_a[i] * ga[i] + out_b[i] * gb[i];
+      c.x[i] = -change * ux[i];
+      c.y[i] = -change * uy[i];
+      c.z[i] = -change * uz[i];
+    }
+    ApplyToEnds(run, c, out);
   }
 }
 

@@ -61,6 +61,62 @@ void OutflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                  const double* inverse_lengths, const MutableNodeArrays& forces,
                  double* total_tensions);
 
+/// A linearisation in schedule order (ForceEvaluator::Linearize): each spring's unit vector u
+/// (a -> b) and geometric coefficient T / L. A linear spring's tangent stiffness is its k.
+struct ScheduledLinearization {
+  const double* ux;
+  const double* uy;
+  const double* uz;
+  const double* geometric;
+
+  /// The view of `storage`, which holds blocks ux, uy, uz, geometric of num_springs each.
+  static ScheduledLinearization Of(const double* storage, int num_springs) {
+    return {storage, storage + num_springs, storage + 2 * num_springs, storage + 3 * num_springs};
+  }
+};
+
+/// Fills `storage` (ScheduledLinearization::Of's layout) at `positions` from the springs' total
+/// tensions (schedule order), leaving out compressed springs' (negative) geometric term when
+/// `drop_compression`.
+void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, int num_springs,
+                   const NodeArrays& positions, const double* total_tensions, bool drop_compression,
+                   double* storage);
+
+/// Stiffness product, direct part: out += K_direct dv, the change of the springs' own tensions
+/// (k u.d(dv) along u plus the geometric term), and, when `accumulator_change` is not null,
+/// the eMSM accumulators' change inflow * k u.d(dv) at both ends.
+void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
+                   const ScheduledLinearization& linearization, const NodeArrays& dv,
+                   const MutableNodeArrays& out, double* accumulator_change);
+
+/// Stiffness product, dispersed part: out += the change of the dispersed tensions
+/// outflow_a dg_a + outflow_b dg_b along u, with dg = (accumulator change) / W per node.
+void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
+                            const ScheduledLinearization& linearization, const double* dg,
+                            const MutableNodeArrays& out);
+
+/// Copies n column-major 3-vectors into x, y, z blocks of n (the run kernels' layout).
+inline void ToNodeArrays(const double* vectors, long n, double* arrays) {
+  const double* __restrict from = vectors;
+  double* __restrict to = arrays;
+  for (long i = 0; i < n; ++i) {
+    to[i] = from[3 * i];
+    to[n + i] = from[3 * i + 1];
+    to[2 * n + i] = from[3 * i + 2];
+  }
+}
+
+/// Adds x, y, z blocks of n to n column-major 3-vectors.
+inline void AddNodeArrays(const double* arrays, long n, double* vectors) {
+  const double* __restrict from = arrays;
+  double* __restrict to = vectors;
+  for (long i = 0; i < n; ++i) {
+    to[3 * i] += from[i];
+    to[3 * i + 1] += from[n + i];
+    to[3 * i + 2] += from[2 * n + i];
+  }
+}
+
 }  // namespace msm_sim::core
 
 namespace msm_sim::core {

@@ -85,7 +85,7 @@ class ForceEvaluator {
                  GeometricStiffness geometric = GeometricStiffness::kExact);
   /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric except
   /// for carrier springs with dispersion (stiffness_is_symmetric). Precondition: Linearize was
-  /// called; v and out are 3 x N.
+  /// called; v and out are 3 x N. Uses the evaluator's scratch: not for concurrent calls.
   void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The diagonal of K (3 x N) at the last Linearize, exact.
   Eigen::Matrix3Xd StiffnessDiagonal() const;
@@ -136,6 +136,8 @@ class ForceEvaluator {
                   Eigen::Matrix3Xd* forces);
   void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// ApplyStiffness through the run kernels (linear springs, no Baudet elements).
+  void ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   template <SpringLaw Law>
   double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
   template <SpringLaw Law>
@@ -156,9 +158,12 @@ class ForceEvaluator {
   Eigen::VectorXd scheduled_totals_;
   // Null unless the model suits the run kernels.
   std::shared_ptr<const ScheduledSpringData> scheduled_;
-  Eigen::VectorXd node_arrays_;         // positions, velocities, forces as x, y, z blocks of N each
-  Eigen::VectorXd geometric_tensions_;  // T of the geometric stiffness (Linearize)
-  Eigen::VectorXd accumulator_;         // J per node
+  Eigen::VectorXd node_arrays_;  // positions, velocities, forces as x, y, z blocks of N each
+  Eigen::VectorXd scheduled_linearization_;   // u and T / L in schedule order (Linearize)
+  mutable Eigen::VectorXd stiffness_arrays_;  // dv and K dv as x, y, z blocks of N each
+  mutable Eigen::VectorXd accumulator_change_;
+  Eigen::VectorXd geometric_tensions_;     // T of the geometric stiffness (Linearize)
+  Eigen::VectorXd accumulator_;            // J per node
   Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
   bool has_previous_dispersion_ = false;
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
