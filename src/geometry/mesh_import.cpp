@@ -11,6 +11,8 @@
 #include <sys/stat.h>
 #include <assimp/Importer.hpp>
 
+#include "geometry/mesh_header_check.h"
+
 namespace msm_sim::core {
 namespace {
 
@@ -25,7 +27,8 @@ std::string Describe(double value) {
   throw MeshImportError("mesh '" + path + "': " + problem);
 }
 
-// Rejects a bad scale and a path that is not a non-empty regular file, before assimp sees it.
+// Rejects bad options, a path that is not a non-empty regular file, a file over the size limit
+// and a header that declares more than the file holds or the limits allow, before assimp sees it.
 void CheckInput(const std::string& path, const MeshImportOptions& options) {
   if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
     Fail(path, "scale must be finite and > 0, got " + Describe(options.scale));
@@ -34,25 +37,64 @@ void CheckInput(const std::string& path, const MeshImportOptions& options) {
   if (stat(path.c_str(), &info) != 0) Fail(path, "no such file");
   if (!S_ISREG(info.st_mode)) Fail(path, "not a regular file");
   if (info.st_size == 0) Fail(path, "the file is empty");
+  const auto size = static_cast<std::uint64_t>(info.st_size);
+  if (size > options.max_file_bytes) {
+    Fail(path, "the file has " + std::to_string(size) + " bytes, more than the " +
+                   std::to_string(options.max_file_bytes) +
+                   " one import may read (MeshImportOptions::max_file_bytes); simplify the mesh");
+  }
+  const std::string problem =
+      mesh_header::CheckMeshHeader(path, size, {options.max_vertices, options.max_triangles});
+  if (!problem.empty()) Fail(path, problem);
+}
+
+// Refuses a scene holding more vertices or faces than the options allow, or a face without
+// vertices (assimp's triangulation asserts, aborting the process, on one), before post-processing
+// or copying them.
+void CheckScene(const std::string& path, const aiScene& scene, const MeshImportOptions& options) {
+  std::uint64_t vertices = 0, faces = 0;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* mesh = scene.mMeshes[m];
+    if (mesh == nullptr) continue;
+    vertices += mesh->mNumVertices;
+    faces += mesh->mNumFaces;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      if (mesh->mFaces[f].mNumIndices == 0 || mesh->mFaces[f].mIndices == nullptr) {
+        Fail(path, "face " + std::to_string(f) + " has no vertices; the file is damaged");
+      }
+    }
+  }
+  std::string problem =
+      mesh_header::OverLimit(vertices, "vertices", options.max_vertices, "max_vertices");
+  if (problem.empty()) {
+    problem = mesh_header::OverLimit(faces, "faces", options.max_triangles, "max_triangles");
+  }
+  if (!problem.empty()) Fail(path, problem);
+}
+
+[[noreturn]] void FailWithAssimpError(const std::string& path, const Assimp::Importer& importer) {
+  std::string reason = importer.GetErrorString();
+  if (reason.empty()) reason = "unknown reason";
+  // Assimp's messages can span lines; keep the error to one.
+  for (char& c : reason) {
+    if (c == '\n' || c == '\r') c = ' ';
+  }
+  Fail(path, "cannot be read as a mesh: " + reason);
 }
 
 // The scene with every face triangulated and every mesh in the root frame; the importer owns it.
-const aiScene& ReadScene(const std::string& path, Assimp::Importer* importer) {
+// Read and validated first, then checked (CheckScene), then post-processed.
+const aiScene& ReadScene(const std::string& path, const MeshImportOptions& options,
+                         Assimp::Importer* importer) {
   // Points and lines carry no surface; have assimp drop them instead of mixing them in.
   importer->SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
                                aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                         aiProcess_SortByPType | aiProcess_ValidateDataStructure;
-  const aiScene* scene = importer->ReadFile(path, flags);
-  if (scene == nullptr) {
-    std::string reason = importer->GetErrorString();
-    if (reason.empty()) reason = "unknown reason";
-    // Assimp's messages can span lines; keep the error to one.
-    for (char& c : reason) {
-      if (c == '\n' || c == '\r') c = ' ';
-    }
-    Fail(path, "cannot be read as a mesh: " + reason);
-  }
+  const aiScene* scene = importer->ReadFile(path, aiProcess_ValidateDataStructure);
+  if (scene == nullptr) FailWithAssimpError(path, *importer);
+  CheckScene(path, *scene, options);
+  scene = importer->ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                                        aiProcess_SortByPType);
+  if (scene == nullptr) FailWithAssimpError(path, *importer);
   return *scene;
 }
 
@@ -126,7 +168,7 @@ double CheckedDiagonal(const std::string& path, const TriangleMesh& raw,
 ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions& options) {
   CheckInput(path, options);
   Assimp::Importer importer;
-  const aiScene& scene = ReadScene(path, &importer);
+  const aiScene& scene = ReadScene(path, options, &importer);
 
   ImportedMesh result;
   const TriangleMesh raw = MergeMeshes(path, scene, options.scale, &result.source_meshes);

@@ -216,7 +216,7 @@ TEST(MeshImport, BrokenFilesGiveOneClearLine) {
   ExpectImportError("no_such_file.stl", "no such file");
   ExpectImportError("empty.stl", "empty");
   ExpectImportError("garbage.obj", "cannot be read as a mesh");
-  ExpectImportError("truncated_binary.stl", "cannot be read as a mesh");
+  ExpectImportError("truncated_binary.stl", "declares 1000 triangles, so 50084 bytes");
   ExpectImportError("lines_only.obj", "cannot be read as a mesh");
   ExpectImportError("nan_vertex.obj", "not finite");
   ExpectImportError("huge.obj", "give the right scale");

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -25,6 +26,13 @@ struct MeshImportOptions {
   /// Vertices closer than this fraction of the bounding-box diagonal are merged, so that STL
   /// files (one vertex per triangle corner) share their edges.
   double weld_tolerance = 1e-7;
+  /// Bounds on the work of one import, so that a damaged or hostile file is refused with a clear
+  /// message instead of taking the machine's memory: files larger than max_file_bytes are not
+  /// read, and a file whose header declares (or whose scene holds) more vertices or faces than
+  /// these is refused before they are allocated.
+  std::uint64_t max_file_bytes = std::uint64_t{512} << 20;
+  std::uint64_t max_vertices = 50'000'000;
+  std::uint64_t max_triangles = 50'000'000;
 };
 
 /// What ImportTriangleMesh did to the file's contents.
@@ -40,9 +48,11 @@ struct ImportedMesh {
 /// vertices and applies the scale. It does not require the surface to be closed: SolidMesh
 /// checks that (the visual mesh of a skin may be open).
 ///
-/// Throws MeshImportError for a missing or unreadable file, a format assimp rejects, a scene
-/// without triangles, non-finite coordinates, or an absurd size; never crashes on a malformed
-/// file that assimp itself survives. Precondition-free: bad options are reported the same way.
+/// Throws MeshImportError for a missing or unreadable file, a file over the options' limits, a
+/// header that declares more elements than the file holds (OFF, PLY, STL, glTF; checked before
+/// assimp allocates them), a format assimp rejects, a scene without triangles, non-finite
+/// coordinates, or an absurd size; never crashes on a malformed file that assimp itself survives.
+/// Precondition-free: bad options are reported the same way.
 ImportedMesh ImportTriangleMesh(const std::string& path, const MeshImportOptions& options = {});
 
 /// ImportTriangleMesh, then the closed solid it bounds (to build a model from). Everything wrong
