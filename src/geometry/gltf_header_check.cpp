@@ -125,9 +125,12 @@ bool ReadBuffer(JsonScanner& json, int depth, std::uint64_t embedded_bytes, Gltf
     return json.Skip(depth + 1);
   });
   if (!ok) return false;
-  // A data URI holds 3 bytes per 4 characters; an external file assimp checks itself.
+  // A data URI holds 3 bytes per 4 characters; an external file assimp checks itself. In a .glb
+  // the binary chunk (glTF 2: the buffer without a URI; glTF 1: the one whose URI is "data:,")
+  // may back it.
   const bool data = uri.rfind("data:", 0) == 0;
-  const std::uint64_t available = data ? uri.size() : embedded_bytes;
+  const std::uint64_t available =
+      data ? std::max<std::uint64_t>(uri.size(), embedded_bytes) : embedded_bytes;
   if ((data || !has_uri) && length > available && sizes->problem.empty()) {
     sizes->problem = "a glTF buffer declares " + std::to_string(length) +
                      " bytes, but its data has at most " + std::to_string(available) +

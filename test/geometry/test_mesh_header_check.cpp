@@ -119,6 +119,11 @@ TEST(MeshHeaderCheck, GltfBuffersAccessorsAndNesting) {
   EXPECT_CONTAINS(
       mesh_header::CheckGltfJson(Replace(gltf, "\"count\":36", "\"count\":4000000000"), 0),
       "accessor declares 4000000000 elements");
+  // glTF 1 keys buffers by id; its binary extension backs the "data:," buffer by the .glb's body.
+  const std::string binary_gltf =
+      R"({"buffers":{"binary_glTF":{"byteLength":100,"uri":"data:,"}}})";
+  EXPECT_EQ(mesh_header::CheckGltfJson(binary_gltf, 100), "");
+  EXPECT_CONTAINS(mesh_header::CheckGltfJson(binary_gltf, 99), "declares 100 bytes");
   // A million '[' would overflow the stack of assimp's recursive JSON parser.
   const std::string deep = "{\"extras\":" + std::string(1'000'000, '[') + "}";
   EXPECT_CONTAINS(mesh_header::CheckGltfJson(deep, 0), "nests deeper than");
