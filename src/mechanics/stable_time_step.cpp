@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <stdexcept>
 #include <vector>
@@ -23,23 +24,43 @@ void Validate(const StableTimeStepOptions& options) {
   }
 }
 
-// A = M^-1/2 K M^-1/2 applied matrix-free; its eigenvalues are the squared angular frequencies.
-class MassScaledStiffness {
- public:
-  // Precondition: evaluator was linearised and outlives this.
-  MassScaledStiffness(const ForceEvaluator& evaluator, const Eigen::VectorXd& masses)
-      : evaluator_(evaluator), inverse_sqrt_mass_(masses.transpose().array().rsqrt()) {}
+// y = A x for a symmetric 3 x N operator.
+using Operator = std::function<void(const Eigen::Matrix3Xd&, Eigen::Matrix3Xd*)>;
 
-  void Apply(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
-    const Eigen::Matrix3Xd scaled = v.array().rowwise() * inverse_sqrt_mass_;
-    evaluator_.ApplyStiffness(scaled, out);
-    *out = out->array().rowwise() * inverse_sqrt_mass_;
+// M^-1/2 B M^-1/2 applied matrix-free for an operator B (K or the dampers' matrix); the
+// eigenvalues of M^-1/2 K M^-1/2 are the squared angular frequencies.
+Operator MassScaled(Operator b, const Eigen::VectorXd& masses) {
+  const Eigen::Array<double, 1, Eigen::Dynamic> inverse_sqrt_mass =
+      masses.transpose().array().rsqrt();
+  return [b = std::move(b), inverse_sqrt_mass](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
+    const Eigen::Matrix3Xd scaled = v.array().rowwise() * inverse_sqrt_mass;
+    b(scaled, out);
+    *out = out->array().rowwise() * inverse_sqrt_mass;
+  };
+}
+
+// The dampers' matrix C / beta = sum k (e_b - e_a)(e_b - e_a)^T (x) u u^T at rest: a damper
+// carries beta k (v_b - v_a).u on the spring's own k, not on the eMSM dispersion or Baudet's
+// correction, so at nu > 1/4 C is much softer than K.
+Operator DamperMatrix(const Model& model) {
+  const int count = model.num_springs();
+  Eigen::Matrix3Xd directions(3, count);
+  for (int s = 0; s < count; ++s) {
+    directions.col(s) = (model.rest_positions().col(model.spring_node_b()[s]) -
+                         model.rest_positions().col(model.spring_node_a()[s]))
+                            .normalized();
   }
-
- private:
-  const ForceEvaluator& evaluator_;
-  const Eigen::Array<double, 1, Eigen::Dynamic> inverse_sqrt_mass_;
-};
+  return [&model, directions](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
+    out->setZero(3, v.cols());
+    for (int s = 0; s < model.num_springs(); ++s) {
+      const NodeIndex a = model.spring_node_a()[s], b = model.spring_node_b()[s];
+      const Eigen::Vector3d u = directions.col(s);
+      const Eigen::Vector3d f = model.spring_stiffness()[s] * u.dot(v.col(b) - v.col(a)) * u;
+      out->col(a) -= f;
+      out->col(b) += f;
+    }
+  };
+}
 
 // A deterministic unit start with a component along the highest modes (an alternating pattern).
 Eigen::Matrix3Xd AlternatingStart(int n) {
@@ -53,13 +74,13 @@ Eigen::Matrix3Xd AlternatingStart(int n) {
 
 // Up to `steps` Lanczos vectors from `start` (reorthogonalised twice against all before) and
 // their products with A. Stops early at an invariant subspace, where the basis is exact.
-void BuildKrylovBasis(const MassScaledStiffness& stiffness, const Eigen::Matrix3Xd& start,
-                      int steps, std::vector<Eigen::Matrix3Xd>* basis,
+void BuildKrylovBasis(const Operator& stiffness, const Eigen::Matrix3Xd& start, int steps,
+                      std::vector<Eigen::Matrix3Xd>* basis,
                       std::vector<Eigen::Matrix3Xd>* products) {
   Eigen::Matrix3Xd av(3, start.cols());
   basis->assign(1, start);
   for (int m = 0; m < steps; ++m) {
-    stiffness.Apply((*basis)[m], &av);
+    stiffness((*basis)[m], &av);
     products->push_back(av);
     if (m + 1 == steps) break;
     for (int pass = 0; pass < 2; ++pass) {
@@ -89,8 +110,7 @@ double LargestRitzValue(const std::vector<Eigen::Matrix3Xd>& basis,
 // the largest eigenvalue of Q^T A Q converges to lambda_max in a few dozen products even where
 // the top of the spectrum is clustered (a lattice's is; power iteration read 2.5 % low after
 // 200), and never exceeds it.
-double LargestEigenvalueByRayleighRitz(const MassScaledStiffness& stiffness,
-                                       const Eigen::Matrix3Xd& start) {
+double LargestEigenvalueByRayleighRitz(const Operator& stiffness, const Eigen::Matrix3Xd& start) {
   const int n = static_cast<int>(start.cols());
   const int steps = std::min(60, 3 * n);
   std::vector<Eigen::Matrix3Xd> basis;
@@ -101,11 +121,11 @@ double LargestEigenvalueByRayleighRitz(const MassScaledStiffness& stiffness,
 
 // Carrier springs with dispersion: K is not symmetric; power iteration, with a margin because
 // it approaches lambda_max from below.
-double LargestEigenvalueByPowerIteration(const MassScaledStiffness& stiffness, Eigen::Matrix3Xd v) {
+double LargestEigenvalueByPowerIteration(const Operator& stiffness, Eigen::Matrix3Xd v) {
   double lambda = 0.0;
   Eigen::Matrix3Xd av(3, v.cols());
   for (int iteration = 0; iteration < 300; ++iteration) {
-    stiffness.Apply(v, &av);
+    stiffness(v, &av);
     const double next = av.norm();
     v = av / next;
     const bool converged = std::abs(next - lambda) <= 1e-5 * next;
@@ -115,17 +135,19 @@ double LargestEigenvalueByPowerIteration(const MassScaledStiffness& stiffness, E
   return lambda * 1.05;  // power iteration approaches from below; measured 2.5 % low
 }
 
-// The damped position-Verlet limit (2 / omega)(sqrt(1 + zeta^2) - zeta) times the safety factor,
-// for the largest eigenvalue lambda of A at rest.
-double StepForLargestEigenvalue(double lambda, SpringLaw spring_law,
-                                const StableTimeStepOptions& options) {
+// The position-Verlet limit times the safety factor, for the largest eigenvalues lambda of
+// M^-1/2 K M^-1/2 and lambda_damper of M^-1/2 (C / beta) M^-1/2 at rest: the largest h with
+// (h^2 / 4) lambda + (h / 2) beta lambda_damper <= 1 (see the header).
+double StepForLargestEigenvalues(double lambda, double lambda_damper, SpringLaw spring_law,
+                                 const StableTimeStepOptions& options) {
   // Carrier springs' tangent grows as (L0 / L)^2 under compression.
   const double stiffening = spring_law == SpringLaw::kNonlinear
                                 ? 1.0 / (options.min_compression * options.min_compression)
                                 : 1.0;
-  const double omega = std::sqrt(lambda * stiffening);
-  const double zeta = 0.5 * options.damping_beta * omega;
-  return options.safety * (2.0 / omega) * (std::sqrt(1.0 + zeta * zeta) - zeta);
+  const double a = 0.25 * lambda * stiffening;
+  const double b = 0.5 * options.damping_beta * lambda_damper;
+  // The positive root of a h^2 + b h - 1, written without cancellation.
+  return options.safety * 2.0 / (b + std::sqrt(b * b + 4.0 * a));
 }
 
 }  // namespace
@@ -136,12 +158,19 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
   if (model.num_springs() == 0) return std::numeric_limits<double>::infinity();
   ForceEvaluator evaluator(model);
   evaluator.Linearize(model.rest_positions());
-  const MassScaledStiffness stiffness(evaluator, model.masses());
+  const Operator stiffness =
+      MassScaled([&evaluator](const Eigen::Matrix3Xd& v,
+                              Eigen::Matrix3Xd* out) { evaluator.ApplyStiffness(v, out); },
+                 model.masses());
   const Eigen::Matrix3Xd start = AlternatingStart(model.num_nodes());
   const double lambda = evaluator.stiffness_is_symmetric()
                             ? LargestEigenvalueByRayleighRitz(stiffness, start)
                             : LargestEigenvalueByPowerIteration(stiffness, start);
-  return StepForLargestEigenvalue(lambda, model.spring_law(), options);
+  const double lambda_damper =
+      options.damping_beta > 0.0
+          ? LargestEigenvalueByRayleighRitz(MassScaled(DamperMatrix(model), model.masses()), start)
+          : 0.0;
+  return StepForLargestEigenvalues(lambda, lambda_damper, model.spring_law(), options);
 }
 
 }  // namespace msm_sim::core

@@ -19,6 +19,7 @@ constexpr double kWrenchHoldSeconds = 0.5;
 core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   core::WorldOptions options;
   options.gravity = config.gravity;
+  options.time_step_safety = config.time_step_safety;
   return options;
 }
 

@@ -1,6 +1,7 @@
 #include "simulation_config.h"
 
 #include <set>
+#include <string>
 
 #include <ros/package.h>
 #include <xmlrpcpp/XmlRpcValue.h>
@@ -40,6 +41,11 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
   config.publish_rate = Positive(world, "publish_rate", config.publish_rate, path);
   config.real_time = Flag(world, "real_time", config.real_time, path);
   config.max_force = Positive(world, "max_force", config.max_force, path);
+  config.time_step_safety = Positive(world, "time_step_safety", config.time_step_safety, path);
+  if (config.time_step_safety > 1.0) {
+    Fail(path + "/time_step_safety", "must be in (0, 1], a fraction of the stability limit; got " +
+                                         std::to_string(config.time_step_safety));
+  }
   return config;
 }
 

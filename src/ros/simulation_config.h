@@ -69,6 +69,9 @@ struct WorldConfig {
   double publish_rate = 30.0;  ///< Hz of markers, contacts, state, tf, diagnostics
   bool real_time = true;       ///< false: as fast as possible
   double max_force = 1e4;      ///< N; larger applied forces are dropped as absurd
+  /// Fraction of the explicit stability limit used as substep, (0, 1]: lower is slower but
+  /// resolves contacts more finely (docs/physics.md §7).
+  double time_step_safety = 0.8;
 };
 
 struct MarkerConfig {

@@ -439,6 +439,8 @@ TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("material", std::string("unobtainium"), "~objects[0]/material");
   ExpectConfigError("world/time_step", -1.0, "~world/time_step");
   ExpectConfigError("world/publish_rate", 0.0, "~world/publish_rate");
+  ExpectConfigError("world/time_step_safety", 1.5, "~world/time_step_safety");
+  ExpectConfigError("world/time_step_safety", 0.0, "~world/time_step_safety");
   XmlRpc::XmlRpcValue bad_clamp;
   bad_clamp[0]["name"] = std::string("c");
   ExpectConfigError("clamps", bad_clamp, "~objects[0]/clamps[0]");

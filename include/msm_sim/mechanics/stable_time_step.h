@@ -16,9 +16,16 @@ struct StableTimeStepOptions {
 
 /// Largest stable step (s) of the explicit integration of `model` (docs/physics.md §7).
 ///
-/// Position Verlet is stable while dt <= 2 / omega_max; with dampers of ratio
-/// zeta = beta omega_max / 2 the limit shrinks to (2 / omega_max)(sqrt(1 + zeta^2) - zeta).
-/// omega_max^2 is the largest eigenvalue of M^-1/2 K M^-1/2 at rest, found from the exact
+/// Position Verlet (the dampers at the step's start velocity) is stable while
+/// M - (dt^2 / 4) K - (dt / 2) C stays positive semi-definite; the step returned is the largest dt
+/// with (dt^2 / 4) omega_max^2 + (dt / 2) beta omega_c^2 <= 1, a sufficient condition since K and
+/// C are positive semi-definite. Without dampers it is 2 / omega_max; with dampers C = beta K
+/// (plain MSM) it is (2 / omega_max)(sqrt(1 + zeta^2) - zeta), zeta = beta omega_max / 2. The
+/// dampers act on the springs' own k only (C / beta = sum k u u^T), not on the eMSM dispersion,
+/// so at nu = 0.49, where the dispersion makes the bulk mode 7 times faster, omega_c << omega_max
+/// and the dampers shorten the step much less than Rayleigh damping beta K would
+/// (docs/physics.md §7). omega_max^2 is the largest eigenvalue of M^-1/2 K M^-1/2 at rest, and
+/// omega_c^2 that of M^-1/2 (C / beta) M^-1/2, both found from the exact
 /// stiffness, so it counts the eMSM dispersion, Baudet's correction and any mass distribution;
 /// the per-node estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which at nu = 0.49
 /// stiffens the bulk mode 7-fold. Where K is symmetric (no dispersion, or linear springs with
