@@ -349,13 +349,13 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
   } else {
     accumulator_.setZero();
     ForShares(num_runs, accumulator_.data(), n, [&](int begin, int end, double* target) {
-      InflowRuns(springs, begin, end, x_arrays, tensions_.data(), inverse_lengths_.data(), target);
+      InflowRuns(springs, begin, end, x_arrays, run_damping, tensions_.data(),
+                 inverse_lengths_.data(), target);
     });
     dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
     ForShares(num_runs, f, 3 * n, [&](int begin, int end, double* target) {
-      OutflowRuns(springs, begin, end, x_arrays, run_damping, dispersion_per_weight_.data(),
-                  tensions_.data(), inverse_lengths_.data(), {target, target + n, target + 2 * n},
-                  totals);
+      OutflowRuns(springs, begin, end, x_arrays, dispersion_per_weight_.data(), tensions_.data(),
+                  inverse_lengths_.data(), {target, target + n, target + 2 * n}, totals);
     });
   }
   AddNodeArrays(f, n, forces->data());

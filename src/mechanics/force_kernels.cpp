@@ -102,10 +102,11 @@ inline __attribute__((always_inline)) void PlainRunsImpl(
   }
 }
 
-template <bool Damped>
+// The dampers' tensions are already in `tensions` (InflowRuns adds them where it has r and 1 / L),
+// so this pass reads no velocities.
 inline __attribute__((always_inline)) void OutflowRunsImpl(
     const ScheduledSprings& springs, int run_begin, int run_end, const NodeArrays& positions,
-    const RunDamping& damping, const double* __restrict g, const double* __restrict tensions,
+    const double* __restrict g, const double* __restrict tensions,
     const double* __restrict inverse_lengths, const MutableNodeArrays& forces,
     double* __restrict total) {
   RunForces c;
@@ -122,28 +123,57 @@ inline __attribute__((always_inline)) void OutflowRunsImpl(
       *inverse_length = inverse[i];
       return t[i] + out_a[i] * ga[i] + out_b[i] * gb[i];
     };
-    RunTensions<Damped>(springs, run, positions, damping, tension, total, &c);
+    RunTensions<false>(springs, run, positions, RunDamping{nullptr, 0.0}, tension, total, &c);
     ApplyToEnds(run, c, forces);
   }
 }
 
 // One run of the eMSM first pass; node arrays start at the run's a0, so node a0 + offset + i is
 // element offset + i.
+template <bool Damped>
 inline __attribute__((always_inline)) void InflowRun(
     int n, int offset, const double* __restrict px, const double* __restrict py,
-    const double* __restrict pz, const double* __restrict k, const double* __restrict rest,
-    const double* __restrict in_a, const double* __restrict in_b, double* __restrict t,
-    double* __restrict inverse, double* __restrict j) {
+    const double* __restrict pz, const double* __restrict vx, const double* __restrict vy,
+    const double* __restrict vz, double beta, const double* __restrict k,
+    const double* __restrict rest, const double* __restrict in_a, const double* __restrict in_b,
+    double* __restrict t, double* __restrict inverse, double* __restrict j,
+    double* __restrict elastic) {
   for (int i = 0; i < n; ++i) {
     const double rx = px[i + offset] - px[i];
     const double ry = py[i + offset] - py[i];
     const double rz = pz[i + offset] - pz[i];
     const double length = std::sqrt(rx * rx + ry * ry + rz * rz);
-    t[i] = k[i] * (length - rest[i]);
-    inverse[i] = 1.0 / length;
-    j[i] += in_a[i] * t[i];
+    const double inverse_length = 1.0 / length;
+    elastic[i] = k[i] * (length - rest[i]);
+    double total = elastic[i];
+    if constexpr (Damped) {
+      const double rate = (vx[i + offset] - vx[i]) * rx + (vy[i + offset] - vy[i]) * ry +
+                          (vz[i + offset] - vz[i]) * rz;
+      total += beta * k[i] * rate * inverse_length;
+    }
+    t[i] = total;
+    inverse[i] = inverse_length;
+    j[i] += in_a[i] * elastic[i];
   }
-  for (int i = 0; i < n; ++i) j[offset + i] += in_b[i] * t[i];
+  for (int i = 0; i < n; ++i) j[offset + i] += in_b[i] * elastic[i];
+}
+
+template <bool Damped>
+inline __attribute__((always_inline)) void InflowRunsImpl(
+    const ScheduledSprings& springs, int run_begin, int run_end, const NodeArrays& positions,
+    const RunDamping& damping, double* tensions, double* inverse_lengths, double* accumulator) {
+  alignas(64) double elastic[kMax];
+  const NodeArrays none{nullptr, nullptr, nullptr};
+  const NodeArrays& v = Damped ? *damping.velocities : none;
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = springs.runs[r];
+    const int a0 = run.a0, f = run.first;
+    InflowRun<Damped>(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
+                      Damped ? v.x + a0 : nullptr, Damped ? v.y + a0 : nullptr,
+                      Damped ? v.z + a0 : nullptr, damping.beta, springs.stiffness + f,
+                      springs.rest + f, springs.inflow_a + f, springs.inflow_b + f, tensions + f,
+                      inverse_lengths + f, accumulator + a0, elastic);
+  }
 }
 
 }  // namespace
@@ -161,30 +191,24 @@ void PlainRuns(const ScheduledSprings& springs, int run_begin, int run_end,
 
 MSM_SIM_SIMD_CLONES
 void InflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
-                const NodeArrays& positions, double* tensions, double* inverse_lengths,
-                double* accumulator) {
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = springs.runs[r];
-    InflowRun(run.count, run.offset, positions.x + run.a0, positions.y + run.a0,
-              positions.z + run.a0, springs.stiffness + run.first, springs.rest + run.first,
-              springs.inflow_a + run.first, springs.inflow_b + run.first, tensions + run.first,
-              inverse_lengths + run.first, accumulator + run.a0);
+                const NodeArrays& positions, const RunDamping& damping, double* tensions,
+                double* inverse_lengths, double* accumulator) {
+  if (damping.velocities != nullptr) {
+    InflowRunsImpl<true>(springs, run_begin, run_end, positions, damping, tensions, inverse_lengths,
+                         accumulator);
+  } else {
+    InflowRunsImpl<false>(springs, run_begin, run_end, positions, damping, tensions,
+                          inverse_lengths, accumulator);
   }
 }
 
 MSM_SIM_SIMD_CLONES
 void OutflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
-                 const NodeArrays& positions, const RunDamping& damping,
-                 const double* dispersion_per_weight, const double* tensions,
-                 const double* inverse_lengths, const MutableNodeArrays& forces,
-                 double* total_tensions) {
-  if (damping.velocities != nullptr) {
-    OutflowRunsImpl<true>(springs, run_begin, run_end, positions, damping, dispersion_per_weight,
-                          tensions, inverse_lengths, forces, total_tensions);
-  } else {
-    OutflowRunsImpl<false>(springs, run_begin, run_end, positions, damping, dispersion_per_weight,
-                           tensions, inverse_lengths, forces, total_tensions);
-  }
+                 const NodeArrays& positions, const double* dispersion_per_weight,
+                 const double* tensions, const double* inverse_lengths,
+                 const MutableNodeArrays& forces, double* total_tensions) {
+  OutflowRunsImpl(springs, run_begin, run_end, positions, dispersion_per_weight, tensions,
+                  inverse_lengths, forces, total_tensions);
 }
 
 MSM_SIM_SIMD_CLONES
