@@ -7,6 +7,26 @@
 #include <Eigen/Core>
 
 namespace msm_sim::core {
+namespace {
+
+// BorderNodes::surface_shares of `nodes`.
+std::vector<double> SurfaceShares(const Model& model, const std::vector<NodeIndex>& nodes) {
+  const double a = model.characteristic_length();
+  const double total_mass = model.masses().sum();
+  // Mass per cell: the model's mean density times a^3 (the material's density would miss
+  // builders that lump mass differently).
+  const double cell_mass = total_mass / model.volume() * a * a * a;
+  std::vector<double> shares;
+  shares.reserve(nodes.size());
+  for (const NodeIndex node : nodes) {
+    const double f =
+        cell_mass > 0.0 && std::isfinite(cell_mass) ? model.masses()[node] / cell_mass : 1.0;
+    shares.push_back(std::min(1.0, 2.0 * f) * a * a);
+  }
+  return shares;
+}
+
+}  // namespace
 
 BorderNodes FindBorderNodes(const Model& model, double imbalance) {
   BorderNodes border;
@@ -27,6 +47,7 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance) {
     // A node without springs still needs a size: half the model's node spacing.
     border.radii.push_back(count > 0 ? half_lengths / count : 0.5 * model.characteristic_length());
   }
+  border.surface_shares = SurfaceShares(model, border.nodes);
   return border;
 }
 

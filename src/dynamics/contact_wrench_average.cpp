@@ -19,6 +19,9 @@ void ContactWrenchAverage::Add(const ContactWrench& wrench, double dt) {
   weighted_centroid_ += weight * wrench.centroid;
   weight_ += weight;
   microcollisions_ += wrench.microcollisions;
+  normal_time_ += wrench.normal_force * dt * wrench.normal;
+  normal_force_time_ += wrench.normal_force * dt;
+  area_time_ += wrench.area * dt;
   seconds_ += dt;
 }
 
@@ -29,6 +32,9 @@ void ContactWrenchAverage::AddMoved(const ContactWrenchAverage& part,
   weighted_centroid_ += part.weighted_centroid_;
   weight_ += part.weight_;
   microcollisions_ += part.microcollisions_;
+  normal_time_ += part.normal_time_;
+  normal_force_time_ += part.normal_force_time_;
+  area_time_ += part.area_time_;
   // The parts cover the same steps: the interval is theirs, not their sum.
   seconds_ = part.seconds_;
 }
@@ -41,6 +47,12 @@ ContactWrench ContactWrenchAverage::Average() const {
       weight_ > 0.0 ? Eigen::Vector3d(weighted_centroid_ / weight_) : Eigen::Vector3d::Zero();
   average.microcollisions =
       static_cast<int>(std::min<long>(microcollisions_, std::numeric_limits<int>::max()));
+  const double normal_norm = normal_time_.norm();
+  average.normal =
+      normal_norm > 0.0 ? Eigen::Vector3d(normal_time_ / normal_norm) : Eigen::Vector3d::Zero();
+  average.normal_force = normal_force_time_ / seconds_;
+  average.area = area_time_ / seconds_;
+  average.mean_pressure = area_time_ > 0.0 ? normal_force_time_ / area_time_ : 0.0;
   return average;
 }
 

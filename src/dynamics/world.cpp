@@ -256,6 +256,7 @@ void World::Reset() {
     body.implicit_dv.resize(3, 0);  // no warm start from before the reset
     PlaceGroups(&body, 0.0);
     std::fill(body.wrenches.begin(), body.wrenches.end(), ContactWrench{});
+    body.contact_points.clear();
   }
   time_ = 0.0;
 }

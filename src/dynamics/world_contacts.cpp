@@ -9,6 +9,16 @@
 #include "geometry/spatial_hash_grid.h"
 
 namespace msm_sim::core {
+namespace {
+
+// A border node counts in a collider's contact patch while its collision sphere, enlarged by
+// this factor, overlaps the collider. The collision radii (the mean half-length of a node's
+// springs) differ by a few percent between the face, edge and corner nodes of a lattice: a block
+// resting on the ground carries its weight on the face nodes, its base's edge and corner nodes
+// hovering 0.02 and 0.04 radii above (node-centred cubic lattice), yet the base is all in contact.
+constexpr double kPatchReach = 1.1;
+
+}  // namespace
 
 // A collider's frame for detection, computed once per body and substep.
 struct World::ColliderFrame {
@@ -23,6 +33,7 @@ struct World::NodeContact {
   Eigen::Vector3d normal;    // unit, out of the collider
   Eigen::Vector3d point;     // on the collider's surface
   Eigen::Vector3d velocity;  // of the collider's material there
+  double distance;           // signed, of the node from the surface (m)
   double stopped = 0.0;      // normal velocity change that stopped the approach (>= 0)
 };
 
@@ -49,8 +60,10 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
   for (std::size_t k = 0; k < body->border.nodes.size(); ++k) {
     const NodeIndex node = body->border.nodes[k];
     if (body->constrained[node]) continue;
-    DetectColliderContacts(frames, body->state.positions.col(node), body->border.radii[k],
-                           &contacts);
+    DetectColliderContacts(frames, body->state.positions.col(node),
+                           kPatchReach * body->border.radii[k], &contacts);
+    if (contacts.empty()) continue;
+    CountInPatches(body, k, &contacts);
     if (contacts.empty()) continue;
     Eigen::Vector3d v = body->state.velocities.col(node);
     StopColliderApproaches(&contacts, &v);
@@ -61,6 +74,17 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
     }
     body->state.velocities.col(node) = v;
   }
+}
+
+void World::CountInPatches(Body* body, std::size_t k, std::vector<NodeContact>* contacts) const {
+  const double radius = body->border.radii[k];
+  for (const NodeContact& contact : *contacts) {
+    body->impulses[contact.collider].area_time += body->border.surface_shares[k] * substep_;
+  }
+  // Only the spheres that overlap collide.
+  contacts->erase(std::remove_if(contacts->begin(), contacts->end(),
+                                 [radius](const NodeContact& c) { return c.distance >= radius; }),
+                  contacts->end());
 }
 
 std::vector<World::ContactNormal> World::DeepestColliderContacts(const Body& body) const {
@@ -111,10 +135,23 @@ void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& 
       friction = -std::min(limit, slide_speed) / slide_speed * sliding;
       v += friction;
     }
-    const Eigen::Vector3d on_node = (normal + m * rebound) * contact.normal + m * friction;
-    body->impulses[contact.collider].Add(contact.point,
-                                         colliders_[contact.collider].pose.translation(), -on_node);
+    RecordColliderImpulse(body, contact.node, contact.collider, contact.point, contact.normal,
+                          normal + m * rebound, -m * friction);
     ++microcollisions_;
+  }
+}
+
+void World::RecordColliderImpulse(Body* body, NodeIndex node, int collider,
+                                  const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                                  double normal_impulse, const Eigen::Vector3d& tangential) const {
+  const Eigen::Vector3d on_collider = tangential - normal_impulse * normal;
+  ImpulseSum& sum = body->impulses[collider];
+  sum.Add(point, colliders_[collider].pose.translation(), on_collider);
+  sum.normal_impulses += normal_impulse * normal;
+  sum.normal_impulse += normal_impulse;
+  if (options_.record_contact_points) {
+    body->contact_points.push_back(
+        {collider, node, substep_index_, point, normal, normal_impulse, tangential});
   }
 }
 
@@ -140,10 +177,11 @@ void World::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
       continue;
     }
     Eigen::Vector3d normal, closest;
-    if (colliders_[c].shape.SignedDistance(local, &normal, &closest) >= radius) continue;
+    const double distance = colliders_[c].shape.SignedDistance(local, &normal, &closest);
+    if (distance >= radius) continue;
     const Eigen::Vector3d point = colliders_[c].pose * closest;
     contacts->push_back({static_cast<int>(c), colliders_[c].pose.linear() * normal, point,
-                         colliders_[c].VelocityAt(point)});
+                         colliders_[c].VelocityAt(point), distance});
   }
 }
 
@@ -180,9 +218,9 @@ void World::RespondToColliderContact(Body* body, NodeIndex node, const NodeConta
     *v += friction;
   }
   if (e > 0.0) body->pending.push_back({node, e * contact.stopped * contact.normal});
-  const Eigen::Vector3d on_node =
-      body->model->masses()[node] * ((1.0 + e) * contact.stopped * contact.normal + friction);
-  body->impulses[contact.collider].Add(contact.point, collider.pose.translation(), -on_node);
+  const double m = body->model->masses()[node];
+  RecordColliderImpulse(body, node, contact.collider, contact.point, contact.normal,
+                        m * (1.0 + e) * contact.stopped, -m * friction);
 }
 
 void World::CollideNodes(int* microcollisions) {

@@ -78,6 +78,7 @@ World::StepStart World::SaveForRollback() {
 void World::ClearStepRecords() {
   for (Body& body : bodies_) {
     body.impulses.assign(colliders_.size() + body.groups.size(), ImpulseSum{});
+    body.contact_points.clear();  // keeps its capacity
   }
   microcollisions_ = 0;
   solver_iterations_ = 0;
@@ -86,7 +87,9 @@ void World::ClearStepRecords() {
 
 std::string World::RunSubsteps(int count, double h,
                                const std::vector<Eigen::Isometry3d>& start_poses) {
+  substep_ = h;
   for (int k = 0; k < count; ++k) {
+    substep_index_ = k;
     Substep(h, start_poses, k * h);
     std::string problem = CheckSane();
     if (!problem.empty()) return problem;
@@ -100,6 +103,7 @@ bool World::RollBack(const StepStart& start) {
     body.state.velocities = body.saved_velocities;
     body.pending = body.saved_pending;
     body.implicit_dv = body.saved_implicit_dv;
+    body.contact_points.clear();
   }
   for (std::size_t c = 0; c < colliders_.size(); ++c) colliders_[c].pose = start.collider_poses[c];
   time_ = start.time;
@@ -139,6 +143,11 @@ void World::TurnImpulsesIntoWrenches(Body* body, double dt) {
     wrench.centroid = sum.weight > 0.0 ? Eigen::Vector3d(sum.weighted_point / sum.weight)
                                        : Eigen::Vector3d::Zero();
     wrench.microcollisions = sum.count;
+    wrench.normal = sum.normal_impulse > 0.0 ? Eigen::Vector3d(sum.normal_impulses.normalized())
+                                             : Eigen::Vector3d::Zero();
+    wrench.normal_force = sum.normal_impulse / dt;
+    wrench.area = sum.area_time / dt;
+    wrench.mean_pressure = sum.area_time > 0.0 ? sum.normal_impulse / sum.area_time : 0.0;
   }
 }
 

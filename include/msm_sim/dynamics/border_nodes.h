@@ -13,6 +13,16 @@ namespace msm_sim::core {
 struct BorderNodes {
   std::vector<NodeIndex> nodes;
   std::vector<double> radii;  ///< m, the mean half-length of the node's springs
+  /// m^2, the body's surface each node stands for in a flat contact (a contact patch's area is
+  /// the sum over its touching nodes): min(1, 2 f) a^2, with a the model's characteristic
+  /// length and f = m V / (M a^3) the node's volume share in cells (m its mass, M and V the
+  /// model's). A node-centred cubic lattice gives each node a whole cell (f = 1), one face of
+  /// which lies on a flat side of the box, edge and corner nodes included: a^2. A lattice of
+  /// element corners has its border nodes on the surface, a face node with half a cell (a^2 of
+  /// the face), an edge node a quarter (a^2 / 2 of each face), a corner an eighth (a^2 / 4):
+  /// 2 f a^2 each. A random lattice's nodes all have f = 1 (a = (V / N)^(1/3)), so a^2 each.
+  /// The sum over a flat side of a box is its area, exactly for both cubic lattices.
+  std::vector<double> surface_shares;
 };
 
 /// A node is on the border when its star of springs is one-sided: the mean of the unit vectors

@@ -12,8 +12,10 @@ Eigen::Vector3d MoveTorque(const Eigen::Vector3d& torque, const Eigen::Vector3d&
                            const Eigen::Vector3d& offset);
 
 /// The time average of what a body exerts on one collider (or clamp) over the steps of an
-/// interval, such as a publication period: force and torque weighted by step duration, the
-/// centroid by impulse (|force| dt), microcollisions summed. A wrench is added for every step
+/// interval, such as a publication period: force, torque, normal force and contact area
+/// weighted by step duration, the centroid by impulse (|force| dt), the normal by normal impulse
+/// (normal_force dt), microcollisions summed; the mean pressure is the mean normal force over
+/// the mean area. A wrench is added for every step
 /// of the interval, also when it is zero, so that its average is over the whole interval.
 class ContactWrenchAverage {
  public:
@@ -29,7 +31,8 @@ class ContactWrenchAverage {
   void Reset() { *this = ContactWrenchAverage(); }
 
   /// Force and torque averaged over seconds(), the impulse-weighted centroid (zero when no
-  /// impulse was added), microcollisions() (saturated at the int range).
+  /// impulse was added), microcollisions() (saturated at the int range), the patch (normal,
+  /// normal force, area, mean pressure) as ContactWrench describes it.
   /// Precondition: seconds() > 0.
   ContactWrench Average() const;
   /// Seconds of steps added.
@@ -41,7 +44,10 @@ class ContactWrenchAverage {
   Eigen::Vector3d force_time_ = Eigen::Vector3d::Zero();   // N s
   Eigen::Vector3d torque_time_ = Eigen::Vector3d::Zero();  // N m s
   Eigen::Vector3d weighted_centroid_ = Eigen::Vector3d::Zero();
-  double weight_ = 0.0;  // N s, the sum of |force| dt
+  double weight_ = 0.0;                                    // N s, the sum of |force| dt
+  Eigen::Vector3d normal_time_ = Eigen::Vector3d::Zero();  // N s, sum of normal_force normal dt
+  double normal_force_time_ = 0.0;                         // N s
+  double area_time_ = 0.0;                                 // m^2 s
   long microcollisions_ = 0;
   double seconds_ = 0.0;
 };

@@ -10,6 +10,7 @@
 
 #include "msm_sim/dynamics/border_nodes.h"
 #include "msm_sim/dynamics/collider.h"
+#include "msm_sim/dynamics/contact_point.h"
 #include "msm_sim/dynamics/contact_wrench.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model.h"
@@ -66,6 +67,8 @@ struct WorldOptions {
   double implicit_tolerance = 1e-4;
   /// ... or after this many iterations (>= 1), whichever comes first.
   int implicit_max_iterations = 200;
+  /// Keep every microcollision with a collider of the last Step (World::contact_points).
+  bool record_contact_points = false;
 };
 
 /// Energies of one body (J). Gravitational energy is -m g . x (zero at the world origin). The
@@ -191,6 +194,13 @@ class World {
   /// Wrenches body `body` exerted during the last Step: one per collider (index = collider
   /// index), then one per kinematic group of that body (in the order added).
   const std::vector<ContactWrench>& wrenches(int body) const { return bodies_.at(body).wrenches; }
+  /// With WorldOptions::record_contact_points: body `body`'s microcollisions with colliders
+  /// during the last accepted Step, substep by substep (the contact stage's and, implicit, the
+  /// held contacts'); their impulses sum to the colliders' wrenches times the step. Empty
+  /// otherwise, and after a rejected Step. The vector keeps its capacity between steps.
+  const std::vector<ContactPoint>& contact_points(int body) const {
+    return bodies_.at(body).contact_points;
+  }
 
  private:
   struct Push {
@@ -215,6 +225,9 @@ class World {
     Eigen::Vector3d weighted_point = Eigen::Vector3d::Zero();
     double weight = 0.0;
     int count = 0;
+    Eigen::Vector3d normal_impulses = Eigen::Vector3d::Zero();  // sum of j_n n (colliders)
+    double normal_impulse = 0.0;                                // sum of j_n, N s
+    double area_time = 0.0;  // m^2 s, touching nodes' surface shares times their substeps
     void Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
              const Eigen::Vector3d& on_collider);
   };
@@ -245,6 +258,7 @@ class World {
     Eigen::Matrix3Xd implicit_dv, saved_implicit_dv;  // last implicit kick: the next one's start
     std::vector<ImpulseSum> impulses;                 // colliders, then groups (during a Step)
     std::vector<ContactWrench> wrenches;              // colliders, then groups (of the last Step)
+    std::vector<ContactPoint> contact_points;         // of the last Step, if recorded
   };
 
   // Where a Step started, for a rejected one to return to (bodies keep their own saved states).
@@ -357,6 +371,15 @@ class World {
   /// Friction into *v, the rebound pending, the impulse recorded. Precondition: stopped > 0.
   void RespondToColliderContact(Body* body, NodeIndex node, const NodeContact& contact,
                                 Eigen::Vector3d* v) const;
+  /// The impulse a node gave a collider in this substep (normal_impulse N s along -normal,
+  /// tangential N s along the surface) into the collider's sum and, if recording, the contact
+  /// points.
+  void RecordColliderImpulse(Body* body, NodeIndex node, int collider, const Eigen::Vector3d& point,
+                             const Eigen::Vector3d& normal, double normal_impulse,
+                             const Eigen::Vector3d& tangential) const;
+  /// Border node k's surface share into the patch of every collider in *contacts (detected with
+  /// the patch's reach), then drops those its collision sphere does not overlap.
+  void CountInPatches(Body* body, std::size_t k, std::vector<NodeContact>* contacts) const;
   /// Stops every approach between touching border nodes (of two bodies, or a folded one).
   void CollideNodes(int* microcollisions);
   /// The touching pairs of border nodes, found with a spatial hash.
@@ -381,6 +404,8 @@ class World {
   void PlaceGroups(Body* body, double t) const;
   int microcollisions_ = 0;
   int solver_iterations_ = 0;  // during the current Step (implicit)
+  int substep_index_ = 0;      // of the current substep within its Step
+  double substep_ = 0.0;       // s, the current substep
 
   WorldOptions options_;
   std::vector<Body> bodies_;
