@@ -184,7 +184,8 @@ class Replayer {
   const std::string ns_;  // the node's namespace
   Simulation simulation_;
   rosbag::Bag output_;
-  std::vector<std::string> link_topics_;
+  std::vector<std::string> link_topics_;           // ~links/<link>/wrench
+  std::vector<std::string> link_pressure_topics_;  // ~links/<link>/pressure
   ReplaySummary summary_;
   const double period_;  // s between publication ticks
   const ros::Time start_;
@@ -213,6 +214,7 @@ Replayer::Replayer(const ReplayOptions& options, const SimulationConfig& config,
           "output bag '" + options.output + "': cannot be written: ", &output_);
   for (const RobotColliders::Link& link : simulation_.robot().links()) {
     link_topics_.push_back(ns_ + "/links/" + link.name + "/wrench");
+    link_pressure_topics_.push_back(ns_ + "/links/" + link.name + "/pressure");
   }
 }
 
@@ -229,9 +231,16 @@ void Replayer::AdvanceTo(const ros::Time& until) {
 
 void Replayer::PublishOutputs(const ros::Time& tick) {
   Write(ns_ + "/markers", tick, simulation_.Markers(tick));
+  sensor_msgs::PointCloud2 contact_points;  // before Contacts, which starts a new interval
+  std::vector<sensor_msgs::PointCloud2> pressures;
+  simulation_.ContactPointClouds(tick, &contact_points, &pressures);
+  Write(ns_ + "/contact_points", tick, contact_points);
   std::vector<geometry_msgs::WrenchStamped> links;
   Write(ns_ + "/contacts", tick, simulation_.Contacts(tick, &links));
-  for (std::size_t l = 0; l < links.size(); ++l) Write(link_topics_[l], tick, links[l]);
+  for (std::size_t l = 0; l < links.size(); ++l) {
+    Write(link_topics_[l], tick, links[l]);
+    Write(link_pressure_topics_[l], tick, pressures[l]);
+  }
   Write(ns_ + "/state", tick, simulation_.NodeCloud(tick));
   tf2_msgs::TFMessage frames;
   frames.transforms = simulation_.Frames(tick);

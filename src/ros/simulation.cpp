@@ -20,6 +20,7 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   core::WorldOptions options;
   options.gravity = config.gravity;
   options.time_step_safety = config.time_step_safety;
+  options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
   return options;
 }
 
@@ -207,13 +208,18 @@ void Simulation::AddStepContacts(double dt) {
     std::vector<core::ContactWrenchAverage>& averages = contact_averages_[o];
     averages.resize(wrenches.size());
     for (std::size_t w = 0; w < wrenches.size(); ++w) averages[w].Add(wrenches[w], dt);
+    const int body = objects_[o].body;
+    contact_points_.Add(static_cast<int>(o), world_.model(body).num_nodes(),
+                        world_.contact_points(body));
   }
+  contact_points_.AddStep(dt);
 }
 
 void Simulation::ResetContactAverages() {
   for (std::vector<core::ContactWrenchAverage>& averages : contact_averages_) {
     for (core::ContactWrenchAverage& average : averages) average.Reset();
   }
+  contact_points_.Reset();
 }
 
 bool Simulation::LookUp(const tf2::BufferCore& tf, const std::string& frame, const ros::Time& stamp,

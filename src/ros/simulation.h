@@ -23,6 +23,7 @@
 #include <tf2/buffer_core.h>
 #include <visualization_msgs/MarkerArray.h>
 
+#include "msm_sim/dynamics/contact_point_average.h"
 #include "msm_sim/dynamics/contact_wrench_average.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/geometry/surface_skin.h"
@@ -62,6 +63,13 @@ class Simulation {
   visualization_msgs::MarkerArray Markers(const ros::Time& stamp) const;
   msm_sim::ContactArray Contacts(const ros::Time& stamp,
                                  std::vector<geometry_msgs::WrenchStamped>* link_wrenches);
+  /// The contact points since the last Contacts, merged per object, collider and node (forces
+  /// averaged over the interval): every one in the world frame (~contact_points) and, per
+  /// robot link (in robot().links() order), the link's in its frame (~links/<link>/pressure).
+  /// Call before Contacts, which starts a new interval. Points with NaN or Inf are left out
+  /// with a throttled warning.
+  void ContactPointClouds(const ros::Time& stamp, sensor_msgs::PointCloud2* world_cloud,
+                          std::vector<sensor_msgs::PointCloud2>* link_clouds) const;
   /// Every node of every object (the ~state topic), with an `object` index field.
   sensor_msgs::PointCloud2 NodeCloud(const ros::Time& stamp) const;
   std::vector<geometry_msgs::TransformStamped> Frames(const ros::Time& stamp) const;
@@ -128,6 +136,8 @@ class Simulation {
   // Per object, per wrench (World colliders, then the object's clamps): the average since the
   // last Contacts.
   std::vector<std::vector<core::ContactWrenchAverage>> contact_averages_;
+  // The contact points since the last Contacts (body = object index).
+  core::ContactPointAverage contact_points_;
   long steps_ = 0, rejected_steps_ = 0, steps_since_report_ = 0;
   int last_substeps_ = 0;
   double step_wall_seconds_ = 0.0, simulated_since_report_ = 0.0;

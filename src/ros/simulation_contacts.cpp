@@ -24,6 +24,9 @@ msm_sim::Contact WorldContact(const std::string& object, const std::string& coll
   contact.wrench.torque = ToVector(average.torque);
   contact.centroid = ToPoint(average.centroid);
   contact.microcollisions = static_cast<std::uint32_t>(sum.microcollisions());
+  contact.normal = ToVector(average.normal);
+  contact.area = average.area;
+  contact.mean_pressure = average.mean_pressure;
   return contact;
 }
 
@@ -40,6 +43,9 @@ msm_sim::Contact LinkContact(const std::string& object, const RobotColliders::Li
   contact.wrench.torque = ToVector(to_link * average.torque);
   contact.centroid = ToPoint(link.pose.inverse() * average.centroid);
   contact.microcollisions = static_cast<std::uint32_t>(microcollisions);
+  contact.normal = ToVector(to_link * average.normal);
+  contact.area = average.area;
+  contact.mean_pressure = average.mean_pressure;
   return contact;
 }
 

@@ -20,10 +20,13 @@ SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_h
   markers_ = private_handle_.advertise<visualization_msgs::MarkerArray>("markers", 1);
   contacts_ = private_handle_.advertise<msm_sim::ContactArray>("contacts", 10);
   state_ = private_handle_.advertise<sensor_msgs::PointCloud2>("state", 1);
+  contact_points_ = private_handle_.advertise<sensor_msgs::PointCloud2>("contact_points", 10);
   diagnostics_ = handle_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
   for (const RobotColliders::Link& link : simulation_->robot().links()) {
     link_wrenches_.push_back(private_handle_.advertise<geometry_msgs::WrenchStamped>(
         "links/" + link.name + "/wrench", 10));
+    link_pressures_.push_back(private_handle_.advertise<sensor_msgs::PointCloud2>(
+        "links/" + link.name + "/pressure", 10));
   }
   apply_force_ = private_handle_.subscribe("apply_force", 100, &SimulationNode::OnApplyForce, this);
   for (std::size_t i = 0; i < config.wrench_inputs.size(); ++i) {
@@ -87,10 +90,16 @@ void SimulationNode::OnWallTimer(const ros::WallTimerEvent&) {
 
 void SimulationNode::Publish(const ros::Time& stamp) {
   if (markers_.getNumSubscribers() > 0) markers_.publish(simulation_->Markers(stamp));
+  // The contact points before Contacts, which starts a new interval.
+  sensor_msgs::PointCloud2 contact_points;
+  std::vector<sensor_msgs::PointCloud2> link_pressures;
+  simulation_->ContactPointClouds(stamp, &contact_points, &link_pressures);
+  contact_points_.publish(contact_points);
   std::vector<geometry_msgs::WrenchStamped> link_wrenches;
   contacts_.publish(simulation_->Contacts(stamp, &link_wrenches));
   for (std::size_t l = 0; l < link_wrenches.size(); ++l) {
     link_wrenches_[l].publish(link_wrenches[l]);
+    link_pressures_[l].publish(link_pressures[l]);
   }
   if (state_.getNumSubscribers() > 0) state_.publish(simulation_->NodeCloud(stamp));
   // With use_sim_time the timer can fire twice at one clock value; tf refuses repeated stamps.

@@ -48,7 +48,9 @@ class SimulationNode {
   std::unique_ptr<Simulation> simulation_;
 
   ros::Publisher markers_, contacts_, state_, diagnostics_;
-  std::vector<ros::Publisher> link_wrenches_;  // ~links/<link>/wrench, per robot link
+  ros::Publisher contact_points_;
+  std::vector<ros::Publisher> link_wrenches_;   // ~links/<link>/wrench, per robot link
+  std::vector<ros::Publisher> link_pressures_;  // ~links/<link>/pressure, per robot link
   ros::Subscriber apply_force_;
   std::vector<ros::Subscriber> wrench_subscribers_;
   ros::ServiceServer reset_, pause_, resume_, set_material_;
