@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/dynamics/contact_point_average.h"
 #include "msm_sim/dynamics/world.h"
 
 namespace msm_sim::core {
@@ -12,32 +13,45 @@ namespace {
 
 // 40 x 20 x 15 = 12,000 nodes at a = 1 cm, about 99k springs, resting on the ground: every
 // step evaluates the eMSM forces (two-pass, nu = 0.45) with dampers, integrates, and resolves
-// the ground's microcollisions of the bottom layer.
-void BM_DynamicsStep12k(benchmark::State& state) {
+// the ground's microcollisions of the bottom layer; with `record_contact_points`, also keeps them
+// (World::contact_points) and averages them as the node does for ~contact_points.
+void DynamicsStep12k(benchmark::State& state, bool record_contact_points) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d(0.4, 0.2, 0.15);
   lattice.spacing = 0.01;
   const auto model = std::make_shared<const Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice));
-  World world;
+  WorldOptions world_options;
+  world_options.record_contact_points = record_contact_points;
+  World world(world_options);
   BodyOptions options;
   options.damping_beta = 1e-4;
   const int body = world.AddBody("block", model, options);
   world.AddCollider(GroundTouching(model->rest_positions(), world.border(body)));
   const double step = world.stable_time_step();
   for (int settle = 0; settle < 200; ++settle) world.Step(step);  // in contact, loaded
-  int contacts = 0;
+  ContactPointAverage points;
+  int contacts = 0, steps = 0;
   for (auto _ : state) {
     const StepReport report = world.Step(step);
     contacts = report.microcollisions;
     benchmark::DoNotOptimize(report.accepted);
+    if (record_contact_points) {
+      points.AddStep(step);
+      points.Add(body, model->num_nodes(), world.contact_points(body));
+      if (++steps % 33 == 0) points.Reset();  // a 30 Hz publication at 1 ms steps
+    }
   }
   state.counters["nodes"] = model->num_nodes();
   state.counters["springs"] = model->num_springs();
   state.counters["ground_contacts"] = contacts;
   state.counters["dt_us"] = step * 1e6;
 }
+
+void BM_DynamicsStep12k(benchmark::State& state) { DynamicsStep12k(state, false); }
+void BM_DynamicsStep12kContactPoints(benchmark::State& state) { DynamicsStep12k(state, true); }
 BENCHMARK(BM_DynamicsStep12k)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+BENCHMARK(BM_DynamicsStep12kContactPoints)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 
 }  // namespace
 }  // namespace msm_sim::core
