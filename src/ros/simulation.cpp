@@ -20,6 +20,7 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   core::WorldOptions options;
   options.gravity = config.gravity;
   options.time_step_safety = config.time_step_safety;
+  options.integrator = config.integrator;
   options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
   return options;
 }

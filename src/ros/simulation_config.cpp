@@ -46,6 +46,12 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
     Fail(path + "/time_step_safety", "must be in (0, 1], a fraction of the stability limit; got " +
                                          std::to_string(config.time_step_safety));
   }
+  const std::string integrator = Text(world, "integrator", "explicit", path);
+  if (integrator != "explicit" && integrator != "implicit") {
+    FailNotOneOf(integrator, {"explicit", "implicit"}, path + "/integrator");
+  }
+  config.integrator =
+      integrator == "implicit" ? core::Integrator::kImplicit : core::Integrator::kExplicit;
   return config;
 }
 

@@ -15,6 +15,7 @@
 
 #include "msm_sim/build/body_recipe.h"
 #include "msm_sim/build/body_shape.h"
+#include "msm_sim/dynamics/world.h"
 #include "msm_sim/material/spring_law.h"
 
 namespace msm_sim::ros_interface {
@@ -72,6 +73,9 @@ struct WorldConfig {
   /// Fraction of the explicit stability limit used as substep, (0, 1]: lower is slower but
   /// resolves contacts more finely (docs/physics.md §7).
   double time_step_safety = 0.8;
+  /// explicit (position Verlet in stable substeps) or implicit (one linearly implicit substep of
+  /// up to 1 ms, docs/physics.md §7.1).
+  core::Integrator integrator = core::Integrator::kExplicit;
 };
 
 struct MarkerConfig {

@@ -432,6 +432,32 @@ void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
   }
 }
 
+TEST(WorldConfig, IntegratorAndSafetyAreRead) {
+  ros::NodeHandle scene("/integrator_scene");
+  scene.deleteParam("");
+  XmlRpc::XmlRpcValue object;
+  object["name"] = std::string("block");
+  object["shape"]["type"] = std::string("box");
+  XmlRpc::XmlRpcValue size;
+  for (int i = 0; i < 3; ++i) size[i] = 0.1;
+  object["shape"]["size"] = size;
+  object["spacing"] = 0.025;
+  object["youngs"] = 1e5;
+  object["poisson"] = 0.3;
+  object["density"] = 1000.0;
+  XmlRpc::XmlRpcValue objects;
+  objects[0] = object;
+  scene.setParam("objects", objects);
+  EXPECT_EQ(msm_sim::ros_interface::LoadSimulationConfig(scene).world.integrator,
+            msm_sim::core::Integrator::kExplicit);  // the default
+  scene.setParam("world/integrator", std::string("implicit"));
+  scene.setParam("world/time_step_safety", 0.4);
+  const auto config = msm_sim::ros_interface::LoadSimulationConfig(scene);
+  EXPECT_EQ(config.world.integrator, msm_sim::core::Integrator::kImplicit);
+  EXPECT_EQ(config.world.time_step_safety, 0.4);
+  scene.deleteParam("");
+}
+
 TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("poisson", 0.7, "~objects[0]/poisson");
   ExpectConfigError("model", std::string("foam"), "~objects[0]/model");
@@ -441,6 +467,7 @@ TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("world/publish_rate", 0.0, "~world/publish_rate");
   ExpectConfigError("world/time_step_safety", 1.5, "~world/time_step_safety");
   ExpectConfigError("world/time_step_safety", 0.0, "~world/time_step_safety");
+  ExpectConfigError("world/integrator", std::string("rk4"), "~world/integrator");
   XmlRpc::XmlRpcValue bad_clamp;
   bad_clamp[0]["name"] = std::string("c");
   ExpectConfigError("clamps", bad_clamp, "~objects[0]/clamps[0]");
