@@ -64,6 +64,10 @@ World::World(const WorldOptions& options) : options_(options) {
   Require(options.implicit_tolerance > 0.0 && options.implicit_tolerance < 1.0,
           "implicit tolerance must lie in (0, 1)");
   Require(options.implicit_max_iterations >= 1, "implicit max iterations must be >= 1");
+  Require(options.penetration_recovery_time > 0.0 && Finite(options.penetration_recovery_time),
+          "penetration recovery time must be finite and > 0");
+  Require(options.penetration_max_speed >= 0.0 && Finite(options.penetration_max_speed),
+          "penetration max speed must be finite and >= 0");
 }
 
 static void ValidateBodyOptions(const std::string& name, const BodyOptions& options) {

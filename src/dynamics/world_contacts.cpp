@@ -45,6 +45,7 @@ struct World::PairContact {
   NodeIndex j;
   Eigen::Vector3d normal;  // from j to i
   double inverse_mass_i, inverse_mass_j, reduced_mass, restitution, friction;
+  double depth;          // overlap of the collision spheres (m)
   double stopped = 0.0;  // normal impulse that stopped the approach
 };
 
@@ -73,6 +74,7 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
       ++*microcollisions;
     }
     body->state.velocities.col(node) = v;
+    RecoverFromColliders(body, node, body->border.radii[k], contacts);
   }
 }
 
@@ -235,6 +237,7 @@ void World::CollideNodes(int* microcollisions) {
     RespondToPairContact(pair);
     ++*microcollisions;
   }
+  RecoverFromPairs(pairs);
 }
 
 std::vector<World::PairContact> World::FindTouchingPairs() {
@@ -296,7 +299,8 @@ void World::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex
   if (inv_i + inv_j == 0.0) return;
   pairs->push_back({body_i, i, body_j, j, d / distance, inv_i, inv_j, 1.0 / (inv_i + inv_j),
                     std::min(body_i->options.restitution, body_j->options.restitution),
-                    std::sqrt(body_i->options.friction * body_j->options.friction)});
+                    std::sqrt(body_i->options.friction * body_j->options.friction),
+                    reach - distance});
 }
 
 void World::StopPairApproaches(std::vector<PairContact>* pairs) const {
@@ -334,6 +338,46 @@ void World::RespondToPairContact(const PairContact& pair) {
     const Eigen::Vector3d rebound = pair.restitution * pair.stopped * pair.normal;
     pair.body_i->pending.push_back({pair.i, pair.inverse_mass_i * rebound});
     pair.body_j->pending.push_back({pair.j, -pair.inverse_mass_j * rebound});
+  }
+}
+
+// Penetration recovery (docs/physics.md §7.2): a position-level correction after the contact
+// stage, for nodes found deeper than their collision spheres allow.
+double World::RecoverySpeed(double depth) const {
+  if (depth <= 0.0) return 0.0;
+  return std::min(options_.penetration_max_speed, depth / options_.penetration_recovery_time);
+}
+
+void World::RecoverFromColliders(Body* body, NodeIndex node, double radius,
+                                 const std::vector<NodeContact>& contacts) const {
+  // A pseudo-velocity: the part of the target separation speed the node's real velocity (after
+  // the contact response) does not already give moves its position and nothing else, so the
+  // correction never becomes kinetic energy. The springs it compresses push back in the next
+  // substeps, and the contact stage records their push as the collider's wrench.
+  const Eigen::Vector3d v = body->state.velocities.col(node);
+  Eigen::Vector3d shift = Eigen::Vector3d::Zero();
+  for (const NodeContact& contact : contacts) {
+    const double target = RecoverySpeed(radius - contact.distance);
+    const double separating = (v - contact.velocity).dot(contact.normal);
+    if (target > separating) shift += (target - separating) * substep_ * contact.normal;
+  }
+  body->state.positions.col(node) += shift;
+}
+
+void World::RecoverFromPairs(const std::vector<PairContact>& pairs) const {
+  for (const PairContact& pair : pairs) {
+    const double target = RecoverySpeed(pair.depth);
+    if (target <= 0.0) continue;
+    auto xi = pair.body_i->state.positions.col(pair.i);
+    auto xj = pair.body_j->state.positions.col(pair.j);
+    const double separating = (Eigen::Vector3d(pair.body_i->state.velocities.col(pair.i)) -
+                               Eigen::Vector3d(pair.body_j->state.velocities.col(pair.j)))
+                                  .dot(pair.normal);
+    if (target <= separating) continue;
+    // Shared as an impulse would be: the lighter (or only free) node moves more.
+    const double total = (target - separating) * substep_ * pair.reduced_mass;
+    xi += total * pair.inverse_mass_i * pair.normal;
+    xj -= total * pair.inverse_mass_j * pair.normal;
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "experiments/indenter.h"
@@ -13,13 +14,13 @@ namespace {
 
 void CheckOptions(const IndentationExperimentOptions& options) {
   const double sum = options.sphere_radius + options.depth + options.speed + options.step +
-                     options.damping_beta + options.start_gap;
+                     options.damping_beta + options.start_gap + options.start_depth + options.hold;
   if (!(options.sphere_radius > 0.0) || !(options.depth > 0.0) || !(options.speed > 0.0) ||
       !(options.step > 0.0) || !(options.damping_beta >= 0.0) || !(options.start_gap >= 0.0) ||
-      !std::isfinite(sum)) {
+      !(options.start_depth >= 0.0) || !(options.hold > 0.0) || !std::isfinite(sum)) {
     throw std::invalid_argument(
-        "indentation: sphere radius, depth, speed and step must be finite and > 0, damping and "
-        "start gap finite and >= 0");
+        "indentation: sphere radius, depth, speed, step and hold must be finite and > 0, "
+        "damping, start gap and start depth finite and >= 0");
   }
   if (options.samples < 1) throw std::invalid_argument("indentation: samples must be >= 1");
 }
@@ -80,7 +81,52 @@ std::vector<IndentationSample> Press(World* world, int body, int sphere,
   return profile;
 }
 
+// Holds the sphere start_depth past first contact for the hold time (penetration recovery).
+void Hold(World* world, int body, int sphere, const IndentationExperimentOptions& options,
+          IndentationExperimentResult* result) {
+  const auto overlap = [&] {
+    return SphereOverlap(world->border(body), world->state(body).positions,
+                         world->collider(sphere).pose.translation(), options.sphere_radius);
+  };
+  result->overlap_before = overlap();
+  const int steps = std::max(1, static_cast<int>(std::lround(options.hold / options.step)));
+  const int averaged = std::max(1, steps / 10);
+  for (int k = 0; k < steps; ++k) {
+    StepOrThrow(world, options.step);
+    result->peak_kinetic = std::max(result->peak_kinetic, world->ComputeEnergies(body).kinetic);
+    if (k >= steps - averaged) result->force_after += world->wrenches(body)[sphere].force.z();
+  }
+  result->force_after /= averaged;
+  result->overlap_after = overlap();
+  const Energies energies = world->ComputeEnergies(body);
+  result->final_kinetic = energies.kinetic;
+  result->final_elastic = energies.elastic;
+  result->steps = steps;
+  result->seconds_simulated = world->time();
+}
+
 }  // namespace
+
+double SphereOverlap(const BorderNodes& border, const Eigen::Matrix3Xd& positions,
+                     const Eigen::Vector3d& centre, double radius) {
+  double deepest = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    const double distance = (positions.col(border.nodes[k]) - centre).norm();
+    deepest = std::max(deepest, radius + border.radii[k] - distance);
+  }
+  return deepest;
+}
+
+double ProfileForceAt(const std::vector<IndentationSample>& profile, double depth) {
+  if (profile.empty()) return 0.0;
+  if (profile.size() == 1) return profile.front().force;
+  std::size_t k = 1;
+  while (k + 1 < profile.size() && profile[k].depth < depth) ++k;
+  const IndentationSample& a = profile[k - 1];
+  const IndentationSample& b = profile[k];
+  const double t = b.depth > a.depth ? (depth - a.depth) / (b.depth - a.depth) : 1.0;
+  return a.force + t * (b.force - a.force);
+}
 
 double HertzForce(double youngs, double poisson, double radius, double depth) {
   if (!(depth > 0.0)) return 0.0;
@@ -104,11 +150,16 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   body_options.dispersion = options.dispersion;
   const int body = world.AddBody("block", model, body_options);
   world.AddKinematicGroup(body, KinematicGroup{"base", BaseNodes(*model), {}});
-  const int sphere = world.AddCollider(SphereIndenter(
-      *model, world.border(body), options.sphere_radius, options.start_gap, options.speed));
-
-  StepToFirstContact(&world, body, sphere, options);
+  const bool held = options.start_depth > 0.0;
+  const int sphere = world.AddCollider(
+      SphereIndenter(*model, world.border(body), options.sphere_radius,
+                     held ? -options.start_depth : options.start_gap, held ? 0.0 : options.speed));
   IndentationExperimentResult result;
+  if (held) {
+    Hold(&world, body, sphere, options, &result);
+    return result;
+  }
+  StepToFirstContact(&world, body, sphere, options);
   result.contact_time = world.time();
   result.profile = Press(&world, body, sphere, options);
   result.seconds_simulated = world.time();

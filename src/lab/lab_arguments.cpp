@@ -259,6 +259,12 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
   indent->add_option("--speed", contact.speed, "the sphere's speed, down (m/s)")
       ->capture_default_str()
       ->check(Finite(false));
+  indent
+      ->add_option("--start-depth", contact.start_depth,
+                   "also start the sphere this far past first contact, inside the block, and "
+                   "hold it there 0.2 s: penetration recovery (m)")
+      ->capture_default_str()
+      ->check(Finite(true));
   indent->add_flag("--json", line->arguments.json, "print one JSON object");
 }
 

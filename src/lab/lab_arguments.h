@@ -54,11 +54,13 @@ struct SlideArguments {
 
 /// `msm_lab realtime` and `msm_lab indent`: a rigid sphere pressed into the top of a block.
 struct ContactArguments {
-  double sphere_radius = 0.01;          ///< m (the demo robot's fingertip)
-  double damping = 1e-4;                ///< s, spring dampers c = beta k
-  double seconds = 0.5;                 ///< realtime: simulated time, s
-  double depth = 0.0;                   ///< indent: indentation past first contact, m
-  double speed = 0.005;                 ///< indent: the sphere's speed, m/s
+  double sphere_radius = 0.01;  ///< m (the demo robot's fingertip)
+  double damping = 1e-4;        ///< s, spring dampers c = beta k
+  double seconds = 0.5;         ///< realtime: simulated time, s
+  double depth = 0.0;           ///< indent: indentation past first contact, m
+  double speed = 0.005;         ///< indent: the sphere's speed, m/s
+  /// indent: > 0, also start the sphere this far inside the block and hold it (m)
+  double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
 };
 

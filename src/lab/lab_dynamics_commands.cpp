@@ -79,6 +79,42 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   return 0;
 }
 
+namespace {
+
+// The sphere started start_depth inside the block and held (penetration recovery), against
+// the slow press's force at that depth; empty if no start depth was given.
+Json RunHeldIndent(const core::IndentationExperimentOptions& pressed,
+                   const core::IndentationExperimentResult& press, double start_depth,
+                   std::shared_ptr<const core::Model> model) {
+  if (!(start_depth > 0.0)) return Json();
+  core::IndentationExperimentOptions options = pressed;
+  options.start_depth = start_depth;
+  const core::IndentationExperimentResult held = core::RunIndentationExperiment(model, options);
+  return Json{{"start_depth", start_depth},
+              {"overlap_before", held.overlap_before},
+              {"overlap_after", held.overlap_after},
+              {"force_after", held.force_after},
+              {"slow_force", core::ProfileForceAt(press.profile, start_depth)},
+              {"peak_kinetic", held.peak_kinetic},
+              {"final_kinetic", held.final_kinetic},
+              {"final_elastic", held.final_elastic}};
+}
+
+void PrintHeld(const Json& held, std::ostream& out) {
+  if (held.is_null()) return;
+  out << std::defaultfloat << std::setprecision(4) << "\nheld at "
+      << 1e3 * held["start_depth"].get<double>() << " mm from the start, 0.2 s:\n"
+      << "overlap          " << 1e3 * held["overlap_before"].get<double>() << " mm before, "
+      << 1e3 * held["overlap_after"].get<double>() << " mm after\n"
+      << "force after      " << held["force_after"].get<double>() << " N (slow press "
+      << held["slow_force"].get<double>() << " N)\n"
+      << "kinetic energy   " << held["peak_kinetic"].get<double>() << " J peak, "
+      << held["final_kinetic"].get<double>() << " J after; elastic "
+      << held["final_elastic"].get<double>() << " J\n";
+}
+
+}  // namespace
+
 int RunIndent(const LabArguments& arguments, std::ostream& out) {
   const auto start = std::chrono::steady_clock::now();
   const ContactArguments& contact = arguments.contact;
@@ -91,15 +127,17 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.integrator = IntegratorNamed(contact.integrator);
   const auto model = LabBlock(arguments.model);
   const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);
+  const Json held = RunHeldIndent(options, result, contact.start_depth, model);
   if (arguments.json) {
     Json profile = Json::array();
     for (const core::IndentationSample& row : result.profile) {
       profile.push_back({row.depth, row.force, row.hertz_force});
     }
-    const Json json{{"profile", profile},
-                    {"nodes", model->num_nodes()},
-                    {"seconds", result.seconds_simulated},
-                    {"integrator", contact.integrator}};
+    Json json{{"profile", profile},
+              {"nodes", model->num_nodes()},
+              {"seconds", result.seconds_simulated},
+              {"integrator", contact.integrator}};
+    if (!held.is_null()) json.update(held);
     out << json.dump() << "\n";
     return 0;
   }
@@ -114,6 +152,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
     out << std::setprecision(4) << std::setw(12) << 1e3 * row.depth << std::setw(12) << row.force
         << std::setw(12) << row.hertz_force << "\n";
   }
+  PrintHeld(held, out);
   out << std::defaultfloat << std::setprecision(4) << "\nsimulated        "
       << result.seconds_simulated << " s\n"
       << "time: " << Seconds(start) << " s\n";

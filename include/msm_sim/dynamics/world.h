@@ -69,6 +69,14 @@ struct WorldOptions {
   int implicit_max_iterations = 200;
   /// Keep every microcollision with a collider of the last Step (World::contact_points).
   bool record_contact_points = false;
+  /// Penetration recovery (docs/physics.md §7.2): a node whose collision sphere overlaps a
+  /// collider (or another node's sphere) by a depth d is moved out at a pseudo-velocity
+  /// min(penetration_max_speed, d / penetration_recovery_time) along the contact normal, a
+  /// position-only correction of the second half-drift that never becomes kinetic energy. Any
+  /// overlap thus decays with this time constant (s, > 0) ...
+  double penetration_recovery_time = 0.05;
+  /// ... at no more than this separation speed (m/s, >= 0; 0 turns the recovery off).
+  double penetration_max_speed = 0.1;
 };
 
 /// Energies of one body (J). Gravitational energy is -m g . x (zero at the world origin). The
@@ -382,6 +390,16 @@ class World {
   void CountInPatches(Body* body, std::size_t k, std::vector<NodeContact>* contacts) const;
   /// Stops every approach between touching border nodes (of two bodies, or a folded one).
   void CollideNodes(int* microcollisions);
+
+  // Penetration recovery (world_contacts.cpp, docs/physics.md §7.2).
+  /// The separation speed (m/s) an overlap this deep (m) is recovered at; 0 if depth <= 0.
+  double RecoverySpeed(double depth) const;
+  /// Moves a node with this collision radius out of the colliders it overlaps (contacts as
+  /// CountInPatches leaves them), by the part of the recovery speed its velocity lacks, times h.
+  void RecoverFromColliders(Body* body, NodeIndex node, double radius,
+                            const std::vector<NodeContact>& contacts) const;
+  /// The same for touching pairs of border nodes, shared by their inverse masses.
+  void RecoverFromPairs(const std::vector<PairContact>& pairs) const;
   /// The touching pairs of border nodes, found with a spatial hash.
   std::vector<PairContact> FindTouchingPairs();
   /// Whether nodes i and j of one body may touch: only if it folds (see self_collision).

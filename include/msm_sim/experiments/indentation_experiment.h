@@ -28,6 +28,13 @@ struct IndentationExperimentOptions {
   double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
+  /// Penetration recovery (docs/physics.md §7.2), m, finite, >= 0. > 0: instead of pressing, the
+  /// sphere starts this far past first contact (its lowest point start_depth below the height at
+  /// which it would touch the first collision sphere under it, as if teleported into the
+  /// block), and is held still for `hold` seconds; the profile stays empty and the result's
+  /// overlap, force and energy fields are filled.
+  double start_depth = 0.0;
+  double hold = 0.2;  ///< s, finite, > 0: how long the sphere is held at start_depth
 };
 
 /// One row of the profile: a run of consecutive steps covering about D / samples of depth.
@@ -44,11 +51,29 @@ struct IndentationExperimentResult {
   double contact_time = 0.0;               ///< s, simulated time at the end of first contact
   double seconds_simulated = 0.0;          ///< s, up to depth D
   int steps = 0;
+  /// start_depth > 0 only. Overlap (m): the deepest penetration of a border node's collision
+  /// sphere into the indenter, max over the nodes of R + r_node - |x_node - c| (<= 0: none);
+  /// before the first step and after the hold.
+  double overlap_before = 0.0;
+  double overlap_after = 0.0;
+  /// N, upwards: the mean vertical force on the sphere over the last tenth of the hold.
+  double force_after = 0.0;
+  double peak_kinetic = 0.0;   ///< J, the body's largest kinetic energy after any step
+  double final_kinetic = 0.0;  ///< J, after the hold
+  double final_elastic = 0.0;  ///< J, after the hold
 };
 
 /// Hertz's force (N) of a rigid sphere of radius R (m) pressed to depth delta (m) into an elastic
 /// half-space: F = 4/3 E / (1 - nu^2) sqrt(R) delta^(3/2); 0 for delta <= 0.
 double HertzForce(double youngs, double poisson, double radius, double depth);
+
+/// The overlap of overlap_before / overlap_after for the body's border nodes at `positions`.
+double SphereOverlap(const BorderNodes& border, const Eigen::Matrix3Xd& positions,
+                     const Eigen::Vector3d& centre, double radius);
+
+/// The profile's force (N) at this depth (m), interpolated linearly between its rows and
+/// extrapolated from the last two beyond them; 0 for an empty profile.
+double ProfileForceAt(const std::vector<IndentationSample>& profile, double depth);
 
 /// Runs the experiment. Throws std::invalid_argument for bad options (or a depth not less than
 /// the body's height) and std::runtime_error if a step is rejected or the sphere has not touched

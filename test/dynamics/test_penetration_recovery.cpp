@@ -1,0 +1,148 @@
+// Penetration recovery (docs/physics.md §7.2): a node found deeper than its collision sphere
+// allows is moved back out within WorldOptions::penetration_recovery_time, at no more than
+// penetration_max_speed, without an energy burst, for both integrators.
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+#include <memory>
+
+#include <gtest/gtest.h>
+
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/dynamics/world.h"
+#include "msm_sim/model/node_selection.h"
+
+namespace msm_sim::core {
+namespace {
+
+// 3.6 x 3.6 x 1.8 cm at a = 3 mm: 12 x 12 x 6 = 864 nodes, E = 100 kPa.
+std::shared_ptr<const Model> Block(double poisson) {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d(0.036, 0.036, 0.018);
+  lattice.spacing = 0.003;
+  return std::make_shared<const Model>(
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice));
+}
+
+// The deepest overlap (m) of a border node's collision sphere with the collider:
+// max over the nodes of r - signed distance (<= 0: none).
+double Overlap(const World& world, int body, int collider) {
+  const BorderNodes& border = world.border(body);
+  const Collider& c = world.collider(collider);
+  const Eigen::Isometry3d inverse = c.pose.inverse();
+  double deepest = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    Eigen::Vector3d normal, closest;
+    const Eigen::Vector3d x = world.state(body).positions.col(border.nodes[k]);
+    deepest =
+        std::max(deepest, border.radii[k] - c.shape.SignedDistance(inverse * x, &normal, &closest));
+  }
+  return deepest;
+}
+
+struct Recovery {
+  double overlap_before, overlap_at_50ms, overlap_after, force_after;
+  double peak_kinetic, final_elastic, max_total, final_total;
+  int rejected = 0;
+};
+
+// A 2 x 2 cm box whose bottom face starts `depth` below the top layer's node centres, over the
+// middle of the block (base clamped, no gravity), held still for 0.2 s in 1 ms steps.
+Recovery RecoverFromBox(double poisson, double depth, Integrator integrator) {
+  WorldOptions options;
+  options.gravity.setZero();
+  options.integrator = integrator;
+  if (getenv("PEN_T")) options.penetration_recovery_time = atof(getenv("PEN_T"));
+  if (getenv("PEN_V")) options.penetration_max_speed = atof(getenv("PEN_V"));
+  if (getenv("PEN_D")) depth = atof(getenv("PEN_D"));
+  World world(options);
+  const auto model = Block(poisson);
+  BodyOptions body_options;
+  body_options.damping_beta = 1e-4;
+  if (getenv("PEN_E")) body_options.restitution = atof(getenv("PEN_E"));
+  if (getenv("PEN_MU")) body_options.friction = atof(getenv("PEN_MU"));
+  const int body = world.AddBody("block", model, body_options);
+  const double bottom = model->rest_positions().row(2).minCoeff();
+  world.AddKinematicGroup(
+      body, KinematicGroup{"base",
+                           NodesInHalfSpace(*model, Eigen::Vector3d(0.0, 0.0, bottom + 0.0015),
+                                            Eigen::Vector3d::UnitZ()),
+                           {}});
+  const double top = model->rest_positions().row(2).maxCoeff();
+  Collider box;
+  box.name = "box";
+  box.shape = ColliderShape::Box(Eigen::Vector3d(0.02, 0.02, 0.02));
+  const Eigen::Vector3d centre = 0.5 * (model->rest_positions().rowwise().minCoeff() +
+                                        model->rest_positions().rowwise().maxCoeff());
+  box.pose.translation() = Eigen::Vector3d(centre.x(), centre.y(), top - depth + 0.01);
+  const int collider = world.AddCollider(box);
+  Recovery r;
+  r.overlap_before = Overlap(world, body, collider);
+  r.peak_kinetic = 0.0;
+  r.max_total = -std::numeric_limits<double>::infinity();
+  double force = 0.0;
+  for (int k = 0; k < 200; ++k) {
+    if (!world.Step(1e-3).accepted) ++r.rejected;
+    const Energies energies = world.ComputeEnergies(body);
+    r.peak_kinetic = std::max(r.peak_kinetic, energies.kinetic);
+    if (getenv("PEN_DEBUG") && k % 5 == 0)
+      std::printf("%d kin %.4g el %.4g ov %.4g f %.4g\n", k, energies.kinetic, energies.elastic,
+                  Overlap(world, body, collider), world.wrenches(body)[collider].force.z());
+    if (k == 49) r.overlap_at_50ms = Overlap(world, body, collider);
+    r.max_total = std::max(r.max_total, energies.total());
+    if (k >= 180) force += world.wrenches(body)[collider].force.z() / 20.0;
+    r.final_elastic = energies.elastic;
+    r.final_total = energies.total();
+  }
+  r.overlap_after = Overlap(world, body, collider);
+  r.force_after = force;
+  std::printf(
+      "  box %.1f mm deep, nu %.2f, %s: overlap %.3f mm -> %.3f mm (50 ms) -> %.4f mm (0.2 s), "
+      "force %.3f N, kinetic peak %.3g J, elastic %.3g J, total max %.4g / final %.4g J\n",
+      1e3 * depth, poisson, integrator == Integrator::kImplicit ? "implicit" : "explicit",
+      1e3 * r.overlap_before, 1e3 * r.overlap_at_50ms, 1e3 * r.overlap_after, r.force_after,
+      r.peak_kinetic, r.final_elastic, r.max_total, r.final_total);
+  return r;
+}
+
+void ExpectRecovered(const Recovery& r) {
+  EXPECT_EQ(r.rejected, 0);
+  EXPECT_GT(r.overlap_before, 0.0055);  // 4 mm plus a collision radius
+  // After 0.2 s no collision sphere overlaps the box by more than 0.2 mm (measured 0.11 mm: the
+  // overlap decays as exp(-t / 50 ms) once below 5 mm; the bound is a collision radius,
+  // 1.5 mm).
+  EXPECT_LT(r.overlap_after, 2e-4);
+  // The correction moves positions only and stores elastic energy as it goes: the total energy
+  // rises to the recovered state's and never bursts above it.
+  EXPECT_LT(r.max_total, 1.02 * r.final_total);
+}
+
+TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOut) {
+  ExpectRecovered(RecoverFromBox(0.25, 0.004, Integrator::kExplicit));
+  ExpectRecovered(RecoverFromBox(0.45, 0.004, Integrator::kExplicit));
+}
+
+TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOutImplicit) {
+  const Recovery r = RecoverFromBox(0.45, 0.004, Integrator::kImplicit);
+  ExpectRecovered(r);
+  EXPECT_LT(r.peak_kinetic, 0.01 * r.final_elastic);  // measured 0.03 %
+}
+
+TEST(PenetrationRecovery, SeparationSpeedIsBounded) {
+  // At 0.1 m/s at most, 4 mm plus a collision radius takes at least 40 ms: the overlap after
+  // 50 ms is still a good part of it.
+  const Recovery r = RecoverFromBox(0.25, 0.004, Integrator::kExplicit);
+  EXPECT_GT(r.overlap_at_50ms, 2e-4);
+}
+
+TEST(PenetrationRecovery, OptionsAreChecked) {
+  WorldOptions options;
+  options.penetration_recovery_time = 0.0;
+  EXPECT_THROW(World{options}, std::invalid_argument);
+  options.penetration_recovery_time = 0.05;
+  options.penetration_max_speed = -1.0;
+  EXPECT_THROW(World{options}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace msm_sim::core
