@@ -18,6 +18,12 @@ namespace {
 // hovering 0.02 and 0.04 radii above (node-centred cubic lattice), yet the base is all in contact.
 constexpr double kPatchReach = 1.1;
 
+// Penetration recovery leaves this fraction of a node's collision radius overlapping: a node
+// resting on a surface sinks by a few micrometres each substep before its approach is stopped,
+// and pushing it all the way out lifted it clear of the surface for the next substep, without
+// friction (a sliding box went 3 % further at 12 nodes, 186 % with 3.85 ms implicit steps).
+constexpr double kRecoverySlop = 0.01;
+
 }  // namespace
 
 // A collider's frame for detection, computed once per body and substep.
@@ -45,6 +51,7 @@ struct World::PairContact {
   NodeIndex j;
   Eigen::Vector3d normal;  // from j to i
   double inverse_mass_i, inverse_mass_j, reduced_mass, restitution, friction;
+  double reach;          // sum of the collision radii (m)
   double depth;          // overlap of the collision spheres (m)
   double stopped = 0.0;  // normal impulse that stopped the approach
 };
@@ -299,7 +306,7 @@ void World::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex
   if (inv_i + inv_j == 0.0) return;
   pairs->push_back({body_i, i, body_j, j, d / distance, inv_i, inv_j, 1.0 / (inv_i + inv_j),
                     std::min(body_i->options.restitution, body_j->options.restitution),
-                    std::sqrt(body_i->options.friction * body_j->options.friction),
+                    std::sqrt(body_i->options.friction * body_j->options.friction), reach,
                     reach - distance});
 }
 
@@ -357,7 +364,7 @@ void World::RecoverFromColliders(Body* body, NodeIndex node, double radius,
   const Eigen::Vector3d v = body->state.velocities.col(node);
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   for (const NodeContact& contact : contacts) {
-    const double target = RecoverySpeed(radius - contact.distance);
+    const double target = RecoverySpeed(radius * (1.0 - kRecoverySlop) - contact.distance);
     const double separating = (v - contact.velocity).dot(contact.normal);
     if (target > separating) shift += (target - separating) * substep_ * contact.normal;
   }
@@ -366,7 +373,7 @@ void World::RecoverFromColliders(Body* body, NodeIndex node, double radius,
 
 void World::RecoverFromPairs(const std::vector<PairContact>& pairs) const {
   for (const PairContact& pair : pairs) {
-    const double target = RecoverySpeed(pair.depth);
+    const double target = RecoverySpeed(pair.depth - kRecoverySlop * pair.reach);
     if (target <= 0.0) continue;
     auto xi = pair.body_i->state.positions.col(pair.i);
     auto xj = pair.body_j->state.positions.col(pair.j);
