@@ -51,8 +51,6 @@ struct World::PairContact {
   NodeIndex j;
   Eigen::Vector3d normal;  // from j to i
   double inverse_mass_i, inverse_mass_j, reduced_mass, restitution, friction;
-  double reach;          // sum of the collision radii (m)
-  double depth;          // overlap of the collision spheres (m)
   double stopped = 0.0;  // normal impulse that stopped the approach
 };
 
@@ -244,7 +242,6 @@ void World::CollideNodes(int* microcollisions) {
     RespondToPairContact(pair);
     ++*microcollisions;
   }
-  RecoverFromPairs(pairs);
 }
 
 std::vector<World::PairContact> World::FindTouchingPairs() {
@@ -306,8 +303,7 @@ void World::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex
   if (inv_i + inv_j == 0.0) return;
   pairs->push_back({body_i, i, body_j, j, d / distance, inv_i, inv_j, 1.0 / (inv_i + inv_j),
                     std::min(body_i->options.restitution, body_j->options.restitution),
-                    std::sqrt(body_i->options.friction * body_j->options.friction), reach,
-                    reach - distance});
+                    std::sqrt(body_i->options.friction * body_j->options.friction)});
 }
 
 void World::StopPairApproaches(std::vector<PairContact>* pairs) const {
@@ -369,23 +365,6 @@ void World::RecoverFromColliders(Body* body, NodeIndex node, double radius,
     if (target > separating) shift += (target - separating) * substep_ * contact.normal;
   }
   body->state.positions.col(node) += shift;
-}
-
-void World::RecoverFromPairs(const std::vector<PairContact>& pairs) const {
-  for (const PairContact& pair : pairs) {
-    const double target = RecoverySpeed(pair.depth - kRecoverySlop * pair.reach);
-    if (target <= 0.0) continue;
-    auto xi = pair.body_i->state.positions.col(pair.i);
-    auto xj = pair.body_j->state.positions.col(pair.j);
-    const double separating = (Eigen::Vector3d(pair.body_i->state.velocities.col(pair.i)) -
-                               Eigen::Vector3d(pair.body_j->state.velocities.col(pair.j)))
-                                  .dot(pair.normal);
-    if (target <= separating) continue;
-    // Shared as an impulse would be: the lighter (or only free) node moves more.
-    const double total = (target - separating) * substep_ * pair.reduced_mass;
-    xi += total * pair.inverse_mass_i * pair.normal;
-    xj -= total * pair.inverse_mass_j * pair.normal;
-  }
 }
 
 }  // namespace msm_sim::core

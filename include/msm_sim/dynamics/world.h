@@ -70,7 +70,8 @@ struct WorldOptions {
   /// Keep every microcollision with a collider of the last Step (World::contact_points).
   bool record_contact_points = false;
   /// Penetration recovery (docs/physics.md §7.2): a node whose collision sphere overlaps a
-  /// collider (or another node's sphere) by a depth d is moved out at a pseudo-velocity
+  /// collider by a depth d (beyond 1 % of its radius, left as a slop; not yet between MSM
+  /// nodes) is moved out at a pseudo-velocity
   /// min(penetration_max_speed, d / penetration_recovery_time) along the contact normal, a
   /// position-only correction of the second half-drift that never becomes kinetic energy. Any
   /// overlap thus decays with this time constant (s, > 0) ...
@@ -398,8 +399,6 @@ class World {
   /// CountInPatches leaves them), by the part of the recovery speed its velocity lacks, times h.
   void RecoverFromColliders(Body* body, NodeIndex node, double radius,
                             const std::vector<NodeContact>& contacts) const;
-  /// The same for touching pairs of border nodes, shared by their inverse masses.
-  void RecoverFromPairs(const std::vector<PairContact>& pairs) const;
   /// The touching pairs of border nodes, found with a spatial hash.
   std::vector<PairContact> FindTouchingPairs();
   /// Whether nodes i and j of one body may touch: only if it folds (see self_collision).
