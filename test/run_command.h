@@ -3,9 +3,11 @@
 // its exit code, whether a signal ended it, and what it wrote.
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -22,7 +24,11 @@ struct CommandRun {
 };
 
 inline CommandRun RunCommand(const std::string& command) {
-  const std::string err_file = ::testing::TempDir() + "msm_sim_command_stderr.txt";
+  // A file of its own: test binaries of two workspaces (or two suites) run at once would
+  // otherwise read each other's messages.
+  std::string err_file = ::testing::TempDir() + "msm_sim_command_stderr_XXXXXX";
+  const int descriptor = mkstemp(err_file.data());
+  if (descriptor >= 0) close(descriptor);
   const std::string full = command + " 2>" + err_file;
   CommandRun run;
   FILE* pipe = popen(full.c_str(), "r");
@@ -36,6 +42,7 @@ inline CommandRun RunCommand(const std::string& command) {
   std::stringstream text;
   text << err.rdbuf();
   run.err = text.str();
+  std::remove(err_file.c_str());
   return run;
 }
 
