@@ -5,6 +5,7 @@
 #   make lab    the same, then the materials lab on a default block
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
 #   make bench  build and run the Google Benchmarks (bench/)
+#   make test-sanitize  the core and lab gtests under AddressSanitizer and UBSan (build/ws-sanitize)
 
 SHELL := /bin/bash
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
@@ -14,7 +15,7 @@ export PATH := /usr/bin:/bin:$(PATH)
 CATKIN_MAKE := catkin_make -C $(WS) -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
 JOBS ?= -j2
 
-.PHONY: deps workspace build demo lab test bench format clean
+.PHONY: deps workspace build demo lab test test-sanitize bench format clean
 
 deps:
 	@$(ROOT)/scripts/install_dependencies.sh
@@ -22,14 +23,19 @@ deps:
 # src/msm_sim mirrors the package's top-level entries as symlinks, all but build/: a symlink to
 # the whole repository would contain the workspace itself and loop tools that walk the package
 # directory (rosrun, roslaunch's find).
-workspace:
-	@if [ -L $(WS)/src/msm_sim ]; then rm $(WS)/src/msm_sim; fi
-	@mkdir -p $(WS)/src/msm_sim
+# $(call link_package,<workspace>): the symlink layout, for build/ws and build/ws-sanitize.
+define link_package
+	@if [ -L $(1)/src/msm_sim ]; then rm $(1)/src/msm_sim; fi
+	@mkdir -p $(1)/src/msm_sim
 	@for entry in $(ROOT)/*; do \
 	  name=$$(basename "$$entry"); \
-	  if [ "$$name" != build ]; then ln -sfn "$$entry" "$(WS)/src/msm_sim/$$name"; fi; \
+	  if [ "$$name" != build ]; then ln -sfn "$$entry" "$(1)/src/msm_sim/$$name"; fi; \
 	done
-	@find $(WS)/src/msm_sim -maxdepth 1 -xtype l -delete
+	@find $(1)/src/msm_sim -maxdepth 1 -xtype l -delete
+endef
+
+workspace:
+	$(call link_package,$(WS))
 
 build: deps workspace
 	$(CATKIN_MAKE) $(JOBS)
@@ -51,6 +57,29 @@ test: build
 	rm -rf $(WS)/build/test_results
 	$(CATKIN_MAKE) -j1 run_tests
 	catkin_test_results --verbose $(WS)/build/test_results
+
+# The core and lab gtests built with AddressSanitizer and UndefinedBehaviorSanitizer
+# (MSM_SIM_SANITIZE, RelWithDebInfo) in their own workspace, run one after another. Every
+# sanitizer report goes to a file under $(SAN_LOGS) (forked children and msm_lab runs included,
+# whose exit codes the tests check), and the target fails when any test fails or any report
+# was written. A sanitizer error exits with code 86, never with a code a test expects.
+SAN_WS := $(ROOT)/build/ws-sanitize
+SAN_LOGS := $(SAN_WS)/sanitizer-reports
+SAN_TESTS := test_core_units test_dynamics test_calibration test_lab_cli
+SAN_ENV := ASAN_OPTIONS=exitcode=86:detect_leaks=1:log_path=$(SAN_LOGS)/asan \
+  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:log_path=$(SAN_LOGS)/ubsan
+test-sanitize: deps
+	$(call link_package,$(SAN_WS))
+	catkin_make -C $(SAN_WS) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMSM_SIM_SANITIZE=ON \
+	  -DPYTHON_EXECUTABLE=/usr/bin/python3 $(JOBS) $(SAN_TESTS) msm_lab
+	rm -rf $(SAN_LOGS) && mkdir -p $(SAN_LOGS)
+	status=0; for t in $(SAN_TESTS); do \
+	  echo "== $$t"; \
+	  $(SAN_ENV) $(SAN_WS)/devel/lib/msm_sim/$$t || { echo "FAILED: $$t"; status=1; }; \
+	done; \
+	if [ -n "$$(ls -A $(SAN_LOGS))" ]; then \
+	  echo "sanitizer reports:"; cat $(SAN_LOGS)/*; status=1; fi; \
+	exit $$status
 
 # The Bullet comparison is built when libbullet-dev is present (the dependency script installs it).
 bench: build
