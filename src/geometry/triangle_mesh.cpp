@@ -52,7 +52,18 @@ TriangleMesh WeldVertices(const TriangleMesh& mesh, double tolerance) {
   // Quantise to cells of edge `tolerance` and look for a representative in the 27 cells around
   // each vertex, so that vertices closer than the tolerance merge even across cell borders.
   const double cell = tolerance > 0.0 ? tolerance : 1.0;
-  auto key = [](const Eigen::Vector3i& c) {
+  using Cell = Eigen::Matrix<std::int64_t, 3, 1>;
+  // Cell coordinates in 64 bits, clamped (NaN to 0): a far or non-finite vertex, or a tiny
+  // tolerance, made the int cast overflow (UB) and the neighbour offsets overflow again.
+  auto cell_of = [&](const Eigen::Vector3d& p) {
+    Cell c;
+    for (int i = 0; i < 3; ++i) {
+      const double f = std::floor(p[i] / cell);
+      c[i] = f == f ? static_cast<std::int64_t>(std::clamp(f, -1e15, 1e15)) : 0;
+    }
+    return c;
+  };
+  auto key = [](const Cell& c) {
     return (static_cast<std::uint64_t>(c.x() & 0x1FFFFF) << 42) |
            (static_cast<std::uint64_t>(c.y() & 0x1FFFFF) << 21) |
            static_cast<std::uint64_t>(c.z() & 0x1FFFFF);
@@ -64,12 +75,12 @@ TriangleMesh WeldVertices(const TriangleMesh& mesh, double tolerance) {
   const double tolerance_sq = tolerance * tolerance;
   for (int v = 0; v < mesh.num_vertices(); ++v) {
     const Eigen::Vector3d p = mesh.vertices.col(v);
-    const Eigen::Vector3i c = (p / cell).array().floor().cast<int>();
+    const Cell c = cell_of(p);
     int found = -1;
     for (int dz = -1; dz <= 1 && found < 0; ++dz) {
       for (int dy = -1; dy <= 1 && found < 0; ++dy) {
         for (int dx = -1; dx <= 1 && found < 0; ++dx) {
-          const auto it = cells.find(key(c + Eigen::Vector3i(dx, dy, dz)));
+          const auto it = cells.find(key(c + Cell(dx, dy, dz)));
           if (it == cells.end()) continue;
           for (const int k : it->second) {
             if ((kept[k] - p).squaredNorm() <= tolerance_sq) {
