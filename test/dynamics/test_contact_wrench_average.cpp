@@ -115,7 +115,7 @@ TEST(ContactWrenchAverage, PatchIsTheTimeWeightedMean) {
   ExpectNear(mean.normal, Eigen::Vector3d(0.3, 0, 0.2).normalized());
   EXPECT_NEAR(mean.normal_force, 0.5 / 0.5, 1e-12);
   EXPECT_NEAR(mean.area, 0.01 / 0.5, 1e-12);
-  EXPECT_NEAR(mean.mean_pressure, 0.5 / 0.01, 1e-9);               // N s / (m^2 s)
+  EXPECT_NEAR(mean.mean_pressure, 0.5 / 0.01, 1e-9);  // N s / (m^2 s)
 }
 
 ContactPoint Point(int collider, NodeIndex node, const Eigen::Vector3d& point,
