@@ -21,8 +21,8 @@ core::DispersionPasses Dispersion(const std::string& name) {
 }
 
 core::Integrator IntegratorNamed(const std::string& name) {
-  if (name == "explicit") return core::Integrator::kExplicit;
-  if (name == "implicit") return core::Integrator::kImplicit;
+  core::Integrator integrator = core::Integrator::kExplicit;
+  if (core::ParseIntegrator(name, &integrator)) return integrator;
   throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
 }
 

@@ -82,12 +82,11 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
   geometric_tensions_ =
       geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
   if (scheduled_) {
-    // AccumulateForces above left the total tensions in schedule order too.
+    // AccumulateForces above went through the run kernels (two-pass), so it left the total
+    // tensions in schedule order and the positions as x, y, z blocks in node_arrays_.
     const int count = model_->num_springs();
     scheduled_linearization_.resize(4 * static_cast<Eigen::Index>(count));
     const Eigen::Index n = model_->num_nodes();
-    node_arrays_.resize(9 * n);
-    ToNodeArrays(positions.data(), n, node_arrays_.data());
     const double* x = node_arrays_.data();
     LinearizeRuns(scheduled_->View(), 0, static_cast<int>(scheduled_->schedule.runs.size()), count,
                   {x, x + n, x + 2 * n}, scheduled_totals_.data(),

@@ -47,11 +47,9 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
                                          std::to_string(config.time_step_safety));
   }
   const std::string integrator = Text(world, "integrator", "explicit", path);
-  if (integrator != "explicit" && integrator != "implicit") {
+  if (!core::ParseIntegrator(integrator, &config.integrator)) {
     FailNotOneOf(integrator, {"explicit", "implicit"}, path + "/integrator");
   }
-  config.integrator =
-      integrator == "implicit" ? core::Integrator::kImplicit : core::Integrator::kExplicit;
   return config;
 }
 

@@ -47,6 +47,17 @@ inline const char* IntegratorName(Integrator integrator) {
   return integrator == Integrator::kImplicit ? "implicit" : "explicit";
 }
 
+/// The integrator IntegratorName calls `name`; false (and *integrator unchanged) for any other.
+inline bool ParseIntegrator(const std::string& name, Integrator* integrator) {
+  for (const Integrator candidate : {Integrator::kExplicit, Integrator::kImplicit}) {
+    if (name == IntegratorName(candidate)) {
+      *integrator = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 struct WorldOptions {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  ///< m/s^2
   /// Fraction of each body's stability limit used as the substep (see StableTimeStep).
