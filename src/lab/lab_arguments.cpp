@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "lab_command_line.h"
 #include "msm_sim/build/body_recipe.h"
 
 namespace msm_sim::lab {
@@ -16,35 +17,8 @@ namespace {
 constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
                                      "slide",       "realtime",   "indent"};
 
-// Which body a command accepts and which options it insists on.
-enum class Body {
-  kBox,           // --size, required
-  kBoxOrMesh,     // --size or --mesh, one of them required
-  kMesh,          // --mesh, required
-  kDefaultBox,    // --size optional (poisson-sweep has defaults)
-  kBlock,         // --size required, --model optional (cubic): indent
-  kDefaultBlock,  // --size, --model, --youngs, --density optional (the block): realtime
-};
-
 // The sphere commands' model options: --model defaults to cubic.
 bool ModelOptional(Body body) { return body == Body::kBlock || body == Body::kDefaultBlock; }
-
-// What CLI11 fills in besides LabArguments: vectors it checks the length of, copied into the
-// arguments' Eigen vectors once parsed, and the commands, to ask which one was parsed.
-struct CommandLine {
-  LabArguments arguments;
-  std::vector<double> size;
-  std::vector<double> rotate;
-  std::vector<int> slide_nodes;
-  std::vector<double> slide_size;
-  CLI::App* compression = nullptr;
-  CLI::App* deflection = nullptr;
-  CLI::App* sweep = nullptr;
-  CLI::App* build = nullptr;
-  CLI::App* slide = nullptr;
-  CLI::App* realtime = nullptr;
-  CLI::App* indent = nullptr;
-};
 
 // --size and/or --mesh with its --scale and --antialias; returns --size (nullptr for kMesh).
 CLI::Option* AddBodyOptions(CLI::App* command, ModelArguments* model, std::vector<double>* size,
@@ -129,6 +103,8 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
       ->check(CLI::IsMember({"two-pass", "one-pass"}));
 }
 
+}  // namespace
+
 // Options describing the model, in the order --help lists them.
 void AddModelOptions(CLI::App* command, CommandLine* line, Body body) {
   ModelArguments* model = &line->arguments.model;
@@ -145,6 +121,8 @@ void AddModelOptions(CLI::App* command, CommandLine* line, Body body) {
   AddMaterialOptions(command, model, body);
   AddLatticeOptions(command, model, &line->rotate);
 }
+
+namespace {
 
 void AddStaticCommands(CLI::App* app, CommandLine* line) {
   LabArguments& arguments = line->arguments;
@@ -204,70 +182,6 @@ void AddSlideCommand(CLI::App* app, CommandLine* line) {
       ->capture_default_str();
   slide->add_flag("--json", line->arguments.json, "print one JSON object");
 }
-
-// A finite number > 0 (or >= 0): CLI11's PositiveNumber would print its range up to DBL_MAX.
-CLI::Validator Finite(bool zero_allowed) {
-  const char* requirement = zero_allowed ? "must be finite and >= 0" : "must be finite and > 0";
-  return CLI::Validator(
-      [zero_allowed, requirement](std::string& text) -> std::string {
-        double value = 0.0;
-        const bool number = CLI::detail::lexical_cast(text, value) && std::isfinite(value);
-        return number && (value > 0.0 || (zero_allowed && value == 0.0)) ? "" : requirement;
-      },
-      zero_allowed ? "NONNEGATIVE" : "POSITIVE");
-}
-
-// --sphere-radius and --damping of the sphere commands (realtime, indent).
-void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
-  command->add_option("--sphere-radius", contact->sphere_radius, "rigid sphere's radius (m)")
-      ->capture_default_str()
-      ->check(Finite(false));
-  command->add_option("--damping", contact->damping, "spring dampers beta, c = beta k (s)")
-      ->capture_default_str()
-      ->check(Finite(true));
-  command
-      ->add_option("--integrator", contact->integrator,
-                   "explicit (position Verlet, stable substeps) | implicit (one substep a step)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"explicit", "implicit"}));
-}
-
-void AddSphereCommands(CLI::App* app, CommandLine* line) {
-  ContactArguments& contact = line->arguments.contact;
-  CLI::App* realtime = line->realtime = app->add_subcommand(
-      "realtime",
-      "wall time per simulated second of the dynamics (explicit integrator: 1 ms steps in stable "
-      "substeps): a block on the ground, a rigid sphere pressing into the middle of its top at "
-      "1 cm/s; defaults: 0.1 x 0.1 x 0.05 m, E 2e5 Pa, density 1100 kg/m^3");
-  AddModelOptions(realtime, line, Body::kDefaultBlock);
-  AddSphereOptions(realtime, &contact);
-  realtime->add_option("--seconds", contact.seconds, "simulated time (s)")
-      ->capture_default_str()
-      ->check(Finite(false));
-  realtime->add_flag("--json", line->arguments.json, "print one JSON object");
-
-  CLI::App* indent = line->indent = app->add_subcommand(
-      "indent",
-      "a rigid sphere pressed into the middle of the top of a block clamped at its base, force "
-      "against Hertz's (explicit integrator, 1 ms steps, no gravity)");
-  AddModelOptions(indent, line, Body::kBlock);
-  AddSphereOptions(indent, &contact);
-  indent->get_option("--sphere-radius")->required();
-  indent->add_option("--depth", contact.depth, "indentation past first contact (m)")
-      ->required()
-      ->check(Finite(false));
-  indent->add_option("--speed", contact.speed, "the sphere's speed, down (m/s)")
-      ->capture_default_str()
-      ->check(Finite(false));
-  indent
-      ->add_option("--start-depth", contact.start_depth,
-                   "also start the sphere this far past first contact, inside the block, and "
-                   "hold it there 0.2 s: penetration recovery (m)")
-      ->capture_default_str()
-      ->check(Finite(true));
-  indent->add_flag("--json", line->arguments.json, "print one JSON object");
-}
-
 ParseOutcome Failure(const std::string& message) {
   ParseOutcome outcome;
   outcome.message = message;

@@ -1,0 +1,50 @@
+#pragma once
+// The pieces of msm_lab's command-line parser that its files share: lab_arguments.cpp (the
+// parser, the model options and the static commands) and lab_sphere_arguments.cpp (the commands
+// that press a rigid sphere into a block). Private to the lab library.
+
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "lab_arguments.h"
+
+namespace msm_sim::lab {
+
+// Which body a command accepts and which options it insists on.
+enum class Body {
+  kBox,           // --size, required
+  kBoxOrMesh,     // --size or --mesh, one of them required
+  kMesh,          // --mesh, required
+  kDefaultBox,    // --size optional (poisson-sweep has defaults)
+  kBlock,         // --size required, --model optional (cubic): indent
+  kDefaultBlock,  // --size, --model, --youngs, --density optional (the block): realtime
+};
+
+// What CLI11 fills in besides LabArguments: vectors it checks the length of, copied into the
+// arguments' Eigen vectors once parsed, and the commands, to ask which one was parsed.
+struct CommandLine {
+  LabArguments arguments;
+  std::vector<double> size;
+  std::vector<double> rotate;
+  std::vector<int> slide_nodes;
+  std::vector<double> slide_size;
+  CLI::App* compression = nullptr;
+  CLI::App* deflection = nullptr;
+  CLI::App* sweep = nullptr;
+  CLI::App* build = nullptr;
+  CLI::App* slide = nullptr;
+  CLI::App* realtime = nullptr;
+  CLI::App* indent = nullptr;
+};
+
+/// Options describing the model, in the order --help lists them.
+void AddModelOptions(CLI::App* command, CommandLine* line, Body body);
+
+/// A finite number > 0 (or >= 0): CLI11's PositiveNumber would print its range up to DBL_MAX.
+CLI::Validator Finite(bool zero_allowed);
+
+/// The realtime and indent commands.
+void AddSphereCommands(CLI::App* app, CommandLine* line);
+
+}  // namespace msm_sim::lab

@@ -1,0 +1,74 @@
+#include <cmath>
+#include <string>
+
+#include "lab_command_line.h"
+
+namespace msm_sim::lab {
+namespace {
+
+// --sphere-radius and --damping of the sphere commands (realtime, indent).
+void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
+  command->add_option("--sphere-radius", contact->sphere_radius, "rigid sphere's radius (m)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  command->add_option("--damping", contact->damping, "spring dampers beta, c = beta k (s)")
+      ->capture_default_str()
+      ->check(Finite(true));
+  command
+      ->add_option("--integrator", contact->integrator,
+                   "explicit (position Verlet, stable substeps) | implicit (one substep a step)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"explicit", "implicit"}));
+}
+
+}  // namespace
+
+// A finite number > 0 (or >= 0): CLI11's PositiveNumber would print its range up to DBL_MAX.
+CLI::Validator Finite(bool zero_allowed) {
+  const char* requirement = zero_allowed ? "must be finite and >= 0" : "must be finite and > 0";
+  return CLI::Validator(
+      [zero_allowed, requirement](std::string& text) -> std::string {
+        double value = 0.0;
+        const bool number = CLI::detail::lexical_cast(text, value) && std::isfinite(value);
+        return number && (value > 0.0 || (zero_allowed && value == 0.0)) ? "" : requirement;
+      },
+      zero_allowed ? "NONNEGATIVE" : "POSITIVE");
+}
+
+void AddSphereCommands(CLI::App* app, CommandLine* line) {
+  ContactArguments& contact = line->arguments.contact;
+  CLI::App* realtime = line->realtime = app->add_subcommand(
+      "realtime",
+      "wall time per simulated second of the dynamics (explicit integrator: 1 ms steps in stable "
+      "substeps): a block on the ground, a rigid sphere pressing into the middle of its top at "
+      "1 cm/s; defaults: 0.1 x 0.1 x 0.05 m, E 2e5 Pa, density 1100 kg/m^3");
+  AddModelOptions(realtime, line, Body::kDefaultBlock);
+  AddSphereOptions(realtime, &contact);
+  realtime->add_option("--seconds", contact.seconds, "simulated time (s)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  realtime->add_flag("--json", line->arguments.json, "print one JSON object");
+
+  CLI::App* indent = line->indent = app->add_subcommand(
+      "indent",
+      "a rigid sphere pressed into the middle of the top of a block clamped at its base, force "
+      "against Hertz's (explicit integrator, 1 ms steps, no gravity)");
+  AddModelOptions(indent, line, Body::kBlock);
+  AddSphereOptions(indent, &contact);
+  indent->get_option("--sphere-radius")->required();
+  indent->add_option("--depth", contact.depth, "indentation past first contact (m)")
+      ->required()
+      ->check(Finite(false));
+  indent->add_option("--speed", contact.speed, "the sphere's speed, down (m/s)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  indent
+      ->add_option("--start-depth", contact.start_depth,
+                   "also start the sphere this far past first contact, inside the block, and "
+                   "hold it there 0.2 s: penetration recovery (m)")
+      ->capture_default_str()
+      ->check(Finite(true));
+  indent->add_flag("--json", line->arguments.json, "print one JSON object");
+}
+
+}  // namespace msm_sim::lab
