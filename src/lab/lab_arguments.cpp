@@ -15,10 +15,12 @@ namespace msm_sim::lab {
 namespace {
 
 constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
-                                     "slide",       "realtime",   "indent"};
+                                     "slide",       "realtime",   "indent",        "fit"};
 
 // The sphere commands' model options: --model defaults to cubic.
-bool ModelOptional(Body body) { return body == Body::kBlock || body == Body::kDefaultBlock; }
+bool ModelOptional(Body body) {
+  return body == Body::kBlock || body == Body::kDefaultBlock || body == Body::kFitBlock;
+}
 
 // --size and/or --mesh with its --scale and --antialias; returns --size (nullptr for kMesh).
 CLI::Option* AddBodyOptions(CLI::App* command, ModelArguments* model, std::vector<double>* size,
@@ -26,7 +28,9 @@ CLI::Option* AddBodyOptions(CLI::App* command, ModelArguments* model, std::vecto
   CLI::Option* size_option = nullptr;
   if (body != Body::kMesh) {
     size_option = command->add_option("--size", *size, "body size LX LY LZ (m)")->expected(3);
-    if (body == Body::kBox || body == Body::kBlock) size_option->required();
+    if (body == Body::kBox || body == Body::kBlock || body == Body::kFitBlock) {
+      size_option->required();
+    }
   }
   if (body != Body::kBoxOrMesh && body != Body::kMesh) return size_option;
   auto* mesh_option = command->add_option(
@@ -53,8 +57,9 @@ void AddSpacingOptions(CLI::App* command, ModelArguments* model, Body body) {
   auto* spacing_option =
       command->add_option("--spacing", model->spacing,
                           "lattice spacing a (m); for --model random the characteristic spacing l");
-  if (body == Body::kBox || ModelOptional(body)) spacing_option->required();
-  if (body == Body::kBoxOrMesh || body == Body::kMesh) {
+  const bool optional = body == Body::kFitBlock;
+  if ((body == Body::kBox || ModelOptional(body)) && !optional) spacing_option->required();
+  if (body == Body::kBoxOrMesh || body == Body::kMesh || optional) {
     command
         ->add_option("--target-nodes", model->target_nodes,
                      "choose the spacing for about this many nodes (instead of --spacing)")
@@ -65,6 +70,12 @@ void AddSpacingOptions(CLI::App* command, ModelArguments* model, Body body) {
 
 // --youngs, --poisson (both required unless the command has defaults) and --density.
 void AddMaterialOptions(CLI::App* command, ModelArguments* model, Body body) {
+  if (body == Body::kFitBlock) {  // E is what fit finds
+    command->add_option("--poisson", model->poisson,
+                        "Poisson's ratio nu, in (-1, 0.5) (default 0.49, an elastomer)");
+    command->add_option("--density", model->density, "density (kg/m^3)")->capture_default_str();
+    return;
+  }
   auto* youngs_option = command->add_option("--youngs", model->youngs, "Young's modulus E (Pa)");
   if (body != Body::kDefaultBox) {
     if (body != Body::kDefaultBlock) youngs_option->required();
@@ -227,6 +238,13 @@ void ApplyRealtimeDefaults(CommandLine* line) {
   if (line->realtime->get_option("--density")->count() == 0) model.density = 1100.0;
 }
 
+// fit's defaults (see its help): about 4,000 nodes when no spacing is given, nu 0.49.
+void ApplyFitDefaults(CommandLine* line) {
+  ModelArguments& model = line->arguments.model;
+  if (model.spacing == 0.0 && model.target_nodes == 0) model.target_nodes = 4000;
+  if (line->fit->get_option("--poisson")->count() == 0) model.poisson = 0.49;
+}
+
 // The parsed command, with the checked vectors copied into the arguments.
 LabArguments ParsedArguments(CommandLine* line) {
   LabArguments& arguments = line->arguments;
@@ -249,6 +267,9 @@ LabArguments ParsedArguments(CommandLine* line) {
     ApplyRealtimeDefaults(line);
   } else if (line->indent->parsed()) {
     arguments.command = LabCommand::kIndent;
+  } else if (line->fit->parsed()) {
+    arguments.command = LabCommand::kFit;
+    ApplyFitDefaults(line);
   } else {
     arguments.command = LabCommand::kPoissonSweep;
     ApplySweepDefaults(line);
@@ -276,8 +297,8 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
 
   if (IsUnknownCommand(argv)) {
     return Failure("unknown command '" + argv[1] +
-                   "' (expected compression, deflection, poisson-sweep, build, slide, realtime or "
-                   "indent)");
+                   "' (expected compression, deflection, poisson-sweep, build, slide, realtime, "
+                   "indent or fit)");
   }
   // CLI11 wants argv without the program name, in reverse order.
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());

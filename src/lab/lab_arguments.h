@@ -38,7 +38,8 @@ enum class LabCommand {
   kBuild,
   kSlide,
   kRealtime,
-  kIndent
+  kIndent,
+  kFit
 };
 
 /// `msm_lab slide`: a box of nodes sliding to a stop on the ground (thesis 6.4).
@@ -64,6 +65,13 @@ struct ContactArguments {
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
 };
 
+/// `msm_lab fit`: the Young's modulus that reproduces a measured indentation curve.
+struct FitArguments {
+  std::string curve;                     ///< CSV of depth_m,force_N rows
+  std::string yaml;                      ///< write the fitted material here, empty for none
+  std::string name = "fitted_material";  ///< the material's name in the YAML entry
+};
+
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
@@ -75,6 +83,7 @@ struct LabArguments {
   std::string vtk;   ///< build: .vtu file to write, empty for none
   SlideArguments slide;
   ContactArguments contact;
+  FitArguments fit;
   bool json = false;
 };
 

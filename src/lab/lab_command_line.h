@@ -19,6 +19,7 @@ enum class Body {
   kDefaultBox,    // --size optional (poisson-sweep has defaults)
   kBlock,         // --size required, --model optional (cubic): indent
   kDefaultBlock,  // --size, --model, --youngs, --density optional (the block): realtime
+  kFitBlock,      // --size required; --model, --spacing, --poisson optional, no --youngs: fit
 };
 
 // What CLI11 fills in besides LabArguments: vectors it checks the length of, copied into the
@@ -36,6 +37,7 @@ struct CommandLine {
   CLI::App* slide = nullptr;
   CLI::App* realtime = nullptr;
   CLI::App* indent = nullptr;
+  CLI::App* fit = nullptr;
 };
 
 /// Options describing the model, in the order --help lists them.
@@ -44,7 +46,7 @@ void AddModelOptions(CLI::App* command, CommandLine* line, Body body);
 /// A finite number > 0 (or >= 0): CLI11's PositiveNumber would print its range up to DBL_MAX.
 CLI::Validator Finite(bool zero_allowed);
 
-/// The realtime and indent commands.
+/// The realtime, indent and fit commands.
 void AddSphereCommands(CLI::App* app, CommandLine* line);
 
 }  // namespace msm_sim::lab

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "lab_dynamics_commands.h"
+#include "lab_fit_command.h"
 #include "lab_model.h"
 #include "lab_report.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
@@ -336,6 +337,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunRealtime(arguments, out);
     case LabCommand::kIndent:
       return RunIndent(arguments, out);
+    case LabCommand::kFit:
+      return RunFit(arguments, out, err);
   }
   return 1;
 }

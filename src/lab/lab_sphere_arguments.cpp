@@ -21,6 +21,28 @@ void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
       ->check(CLI::IsMember({"explicit", "implicit"}));
 }
 
+void AddFitCommand(CLI::App* app, CommandLine* line) {
+  FitArguments& fit = line->arguments.fit;
+  CLI::App* command = line->fit = app->add_subcommand(
+      "fit",
+      "the Young's modulus for which indent on the same block reproduces a measured curve of a "
+      "spherical probe (1-D search from Hertz's estimate); defaults: cubic, about 4,000 nodes, "
+      "nu 0.49");
+  command->add_option("--indent", fit.curve, "CSV of depth_m,force_N rows, depth past contact")
+      ->required()
+      ->check(CLI::ExistingFile);
+  AddModelOptions(command, line, Body::kFitBlock);
+  AddSphereOptions(command, &line->arguments.contact);
+  command->get_option("--sphere-radius")->required();
+  command->add_option("--speed", line->arguments.contact.speed, "the simulated probe's speed (m/s)")
+      ->capture_default_str()
+      ->check(Finite(false));
+  command->add_option("--yaml", fit.yaml, "write the fitted material as a materials.yaml entry");
+  command->add_option("--name", fit.name, "the material's name in that entry")
+      ->capture_default_str();
+  command->add_flag("--json", line->arguments.json, "print one JSON object");
+}
+
 }  // namespace
 
 // A finite number > 0 (or >= 0): CLI11's PositiveNumber would print its range up to DBL_MAX.
@@ -69,6 +91,7 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
       ->capture_default_str()
       ->check(Finite(true));
   indent->add_flag("--json", line->arguments.json, "print one JSON object");
+  AddFitCommand(app, line);
 }
 
 }  // namespace msm_sim::lab

@@ -1,0 +1,148 @@
+// Fitting a material to a measured indentation curve (issue "Materials the way users know
+// them"): reading the CSV, Hertz's estimate and the 1-D search on the modulus.
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "msm_sim/experiments/indentation_curve.h"
+#include "msm_sim/experiments/indentation_fit.h"
+
+namespace msm_sim::core {
+namespace {
+
+std::vector<IndentationPoint> Read(const std::string& text) {
+  std::istringstream csv(text);
+  return ReadIndentationCurve(csv);
+}
+
+// The message of the std::invalid_argument that reading `text` throws ("" if none).
+std::string RefusalOf(const std::string& text) {
+  try {
+    Read(text);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(IndentationCurve, ReadsRowsAfterAHeaderSkippingCommentsAndBlankLines) {
+  const auto curve = Read("depth_m,force_N\n# probe 1\n\n0.0005, 0.1\n 0.001 ,0.3\r\n");
+  ASSERT_EQ(curve.size(), 2u);
+  EXPECT_EQ(curve[0].depth, 0.0005);
+  EXPECT_EQ(curve[0].force, 0.1);
+  EXPECT_EQ(curve[1].depth, 0.001);
+  EXPECT_EQ(curve[1].force, 0.3);
+  EXPECT_EQ(Read("0,0\n1e-3,2\n").size(), 2u);  // no header
+}
+
+TEST(IndentationCurve, RefusesBadRowsNamingTheLine) {
+  EXPECT_NE(RefusalOf("").find("no depth_m,force_N rows"), std::string::npos);
+  EXPECT_NE(RefusalOf("depth_m,force_N\n").find("no depth_m,force_N rows"), std::string::npos);
+  const std::string header = "depth_m,force_N\n0.001,0.1\n";
+  EXPECT_NE(RefusalOf(header + "0.002,abc\n").find("line 3: not a number"), std::string::npos);
+  EXPECT_NE(RefusalOf(header + "0.002\n").find("line 3: expected two fields"), std::string::npos);
+  EXPECT_NE(RefusalOf(header + "0.002,1,2\n").find("line 3: expected two fields"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(header + "nan,1\n").find("line 3: NaN"), std::string::npos);
+  EXPECT_NE(RefusalOf(header + "0.002,inf\n").find("line 3: NaN or infinite"), std::string::npos);
+  EXPECT_NE(RefusalOf("-0.001,0.1\n").find("line 1: negative depth"), std::string::npos);
+  EXPECT_NE(RefusalOf(header + "0.001,0.2\n").find("line 3: depth 0.001 is not greater"),
+            std::string::npos);
+  EXPECT_NE(RefusalOf(header + "0.0005,0.2\n").find("line 3"), std::string::npos);
+}
+
+// Hertz's curve of E at these depths.
+std::vector<IndentationPoint> HertzCurve(double youngs, double poisson, double radius) {
+  std::vector<IndentationPoint> curve;
+  for (int i = 1; i <= 20; ++i) {
+    const double depth = 1e-4 * i;
+    curve.push_back({depth, HertzForce(youngs, poisson, radius, depth)});
+  }
+  return curve;
+}
+
+TEST(IndentationFit, HertzEstimateOfAHertzCurveIsItsModulus) {
+  EXPECT_NEAR(HertzYoungsModulus(HertzCurve(3e5, 0.45, 0.005), 0.45, 0.005), 3e5, 1e-6);
+  EXPECT_THROW(HertzYoungsModulus({{0.0, 1.0}}, 0.3, 0.01), std::invalid_argument);
+  EXPECT_THROW(HertzYoungsModulus({{1e-3, -1.0}}, 0.3, 0.01), std::invalid_argument);
+}
+
+// A stand-in for the simulation: a profile whose force is `stiffness` (E / 1 Pa)^power times
+// Hertz's at E = 1 Pa, so that the fit's answer is known in closed form.
+IndentationSimulator PowerLawSimulator(double stiffness, double power, int* calls) {
+  return [=](double youngs) {
+    ++*calls;
+    std::vector<IndentationSample> profile;
+    for (int i = 0; i <= 40; ++i) {
+      const double depth = 5e-5 * i;
+      profile.push_back(
+          {depth, stiffness * std::pow(youngs, power) * HertzForce(1.0, 0.3, 0.01, depth), 0.0});
+    }
+    return profile;
+  };
+}
+
+TEST(IndentationFit, ALinearModelIsFittedByTheSecondSimulation) {
+  // Forces 1.4x Hertz's: the curve of E = 2e5 is reproduced by E = 2e5 / 1.4.
+  int calls = 0;
+  IndentationFitOptions options;
+  options.poisson = 0.3;
+  options.sphere_radius = 0.01;
+  const auto fit =
+      FitYoungsModulus(HertzCurve(2e5, 0.3, 0.01), PowerLawSimulator(1.4, 1.0, &calls), options);
+  EXPECT_TRUE(fit.converged);
+  EXPECT_EQ(fit.simulations, 2);
+  EXPECT_EQ(calls, 2);
+  EXPECT_NEAR(fit.hertz_youngs, 2e5, 1e-6);
+  EXPECT_NEAR(fit.youngs / (2e5 / 1.4), 1.0, 1e-9);
+  EXPECT_LT(fit.residual, 1e-9);
+  ASSERT_EQ(fit.tried.size(), 2u);
+  EXPECT_NEAR(fit.tried[0], 2e5, 1e-6);
+}
+
+TEST(IndentationFit, ANonLinearModelConvergesByTheSecantWithinTheTolerance) {
+  // F ~ E^0.7: the fixed-point step alone would creep; the secant finds (2e5 / 0.9)^(1/0.7).
+  int calls = 0;
+  IndentationFitOptions options;
+  options.poisson = 0.3;
+  options.sphere_radius = 0.01;
+  const double target = std::pow(2e5 / 0.9, 1.0 / 0.7);
+  const auto fit =
+      FitYoungsModulus(HertzCurve(2e5, 0.3, 0.01), PowerLawSimulator(0.9, 0.7, &calls), options);
+  EXPECT_TRUE(fit.converged);
+  EXPECT_LE(fit.simulations, 6);
+  EXPECT_NEAR(fit.youngs / target, 1.0, 1.5e-3);  // tolerance 1e-3 on the force, E^0.7
+}
+
+TEST(IndentationFit, StopsAtTheLimitWithTheBestModulusSeen) {
+  int calls = 0;
+  IndentationFitOptions options;
+  options.poisson = 0.3;
+  options.sphere_radius = 0.01;
+  options.max_simulations = 2;
+  options.tolerance = 1e-12;
+  const auto fit =
+      FitYoungsModulus(HertzCurve(2e5, 0.3, 0.01), PowerLawSimulator(0.9, 0.3, &calls), options);
+  EXPECT_FALSE(fit.converged);
+  EXPECT_EQ(fit.simulations, 2);
+  EXPECT_EQ(fit.youngs, fit.tried[1]);  // the fixed-point step is the better of the two
+}
+
+TEST(IndentationFit, RefusesASimulationWithoutForce) {
+  IndentationFitOptions options;
+  int calls = 0;
+  EXPECT_THROW(
+      FitYoungsModulus(HertzCurve(2e5, 0.3, 0.01), PowerLawSimulator(0.0, 1.0, &calls), options),
+      std::runtime_error);
+  options.max_simulations = 1;
+  EXPECT_THROW(
+      FitYoungsModulus(HertzCurve(2e5, 0.3, 0.01), PowerLawSimulator(1.0, 1.0, &calls), options),
+      std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace msm_sim::core

@@ -1,0 +1,155 @@
+// Runs the real msm_lab executable's `fit` (issue "Materials the way users know them"): a round
+// trip through `indent` with noise, an independent curve (Hertz's), bad CSVs and the YAML entry.
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_lab.h"
+
+namespace {
+
+using msm_sim::testing::CountLines;
+using msm_sim::testing::LabRun;
+using msm_sim::testing::RunLab;
+
+std::string TempPath(const std::string& name) { return ::testing::TempDir() + "msm_fit_" + name; }
+
+void WriteFile(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+std::string ReadFile(const std::string& path) {
+  std::stringstream text;
+  text << std::ifstream(path).rdbuf();
+  return text.str();
+}
+
+// `indent --json`'s profile as a CSV, each force times (1 + 2 % Gaussian noise), seeded.
+std::string NoisyCurve(const nlohmann::json& indent, unsigned seed) {
+  std::mt19937 generator(seed);
+  std::normal_distribution<double> noise(0.0, 0.02);
+  std::ostringstream csv;
+  csv.precision(10);
+  csv << "depth_m,force_N\n";
+  for (const auto& row : indent["profile"]) {
+    csv << row[0].get<double>() << "," << row[1].get<double>() * (1.0 + noise(generator)) << "\n";
+  }
+  return csv.str();
+}
+
+// Curves from `indent` at a known E, with 2 % noise, are fitted back within 3 %.
+void ExpectRoundTrip(double youngs, double poisson, unsigned seed) {
+  const std::string block = "--size 0.04 0.04 0.02 --spacing 0.0025 --sphere-radius 0.005";
+  const std::string material = " --poisson " + std::to_string(poisson);
+  const LabRun indent = RunLab("indent " + block + material + " --youngs " +
+                               std::to_string(youngs) + " --depth 0.0015 --json");
+  ASSERT_EQ(indent.exit_code, 0) << indent.err;
+  const std::string csv = TempPath("round_trip_" + std::to_string(seed) + ".csv");
+  WriteFile(csv, NoisyCurve(nlohmann::json::parse(indent.out), seed));
+  const LabRun fit = RunLab("fit --indent " + csv + " " + block + material + " --json");
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const auto json = nlohmann::json::parse(fit.out);
+  const double fitted = json["youngs"].get<double>();
+  ::testing::Test::RecordProperty("fitted_over_true", std::to_string(fitted / youngs));
+  EXPECT_NEAR(fitted / youngs, 1.0, 0.03) << fit.out;
+  EXPECT_TRUE(json["converged"].get<bool>());
+  EXPECT_LE(json["simulations"].get<int>(), 6);
+  EXPECT_LT(json["residual"].get<double>(), 0.03);  // the noise's RMS is 2 % of each force
+  std::remove(csv.c_str());
+}
+
+TEST(LabCliFit, RoundTripThroughIndentWithNoiseAtNu03) { ExpectRoundTrip(5e4, 0.3, 11); }
+
+TEST(LabCliFit, RoundTripThroughIndentWithNoiseAtNu049) { ExpectRoundTrip(3e5, 0.49, 12); }
+
+// An independent curve: Hertz's, which a CalculiX run puts within 2 % of the FE force on a
+// block 10 contact radii wide and deep clamped at its base (R = 1 cm, 2 mm deep: a = 4.5 mm,
+// block 4.6 cm; a = 2 mm, 4.5 nodes across the contact). The fit must land within 2 % plus the
+// model's own deviation from Hertz there, which `indent` measures at the true E.
+TEST(LabCliFit, HertzCurveOnABlockTenContactRadiiWideIsFittedWithinTheModelsDeviation) {
+  const double youngs = 1e5, poisson = 0.3, radius = 0.01;
+  const std::string block = "--size 0.046 0.046 0.046 --spacing 0.002 --sphere-radius 0.01";
+  const LabRun indent = RunLab("indent " + block +
+                               " --poisson 0.3 --youngs 1e5 --depth 0.002 "
+                               "--json");
+  ASSERT_EQ(indent.exit_code, 0) << indent.err;
+  const auto profile = nlohmann::json::parse(indent.out)["profile"];
+  double cross = 0.0, squares = 0.0;  // least-squares ratio of indent's force to Hertz's
+  for (const auto& row : profile) {
+    cross += row[1].get<double>() * row[2].get<double>();
+    squares += row[2].get<double>() * row[2].get<double>();
+  }
+  const double deviation = cross / squares - 1.0;
+  std::ostringstream csv;
+  csv.precision(10);
+  for (int i = 1; i <= 40; ++i) {
+    const double depth = 5e-5 * i;
+    const double hertz =
+        4.0 / 3.0 * youngs / (1.0 - poisson * poisson) * std::sqrt(radius) * std::pow(depth, 1.5);
+    csv << depth << "," << hertz << "\n";
+  }
+  const std::string path = TempPath("hertz.csv");
+  WriteFile(path, csv.str());
+  const LabRun fit = RunLab("fit --indent " + path + " " + block + " --poisson 0.3 --json");
+  ASSERT_EQ(fit.exit_code, 0) << fit.err;
+  const double fitted = nlohmann::json::parse(fit.out)["youngs"].get<double>();
+  ::testing::Test::RecordProperty("indent_over_hertz", std::to_string(1.0 + deviation));
+  ::testing::Test::RecordProperty("fitted_over_true", std::to_string(fitted / youngs));
+  EXPECT_LE(std::abs(fitted / youngs - 1.0), 0.02 + std::abs(deviation)) << fit.out;
+  // Sharper: the fitted modulus times the model's own excess force is the true modulus.
+  EXPECT_NEAR(fitted * (1.0 + deviation) / youngs, 1.0, 0.02) << "deviation " << deviation;
+  std::remove(path.c_str());
+}
+
+// A small block, so that a run takes a fraction of a second.
+const std::string kSmallFit = "--size 0.03 0.03 0.015 --spacing 0.003 --sphere-radius 0.005";
+
+TEST(LabCliFit, WritesAMaterialsEntryAndATable) {
+  const std::string csv = TempPath("table.csv"), yaml = TempPath("table.yaml");
+  WriteFile(csv, "depth_m,force_N\n0.0002,0.02\n0.0004,0.05\n0.0006,0.09\n0.0008,0.13\n");
+  const LabRun run = RunLab("fit --indent " + csv + " " + kSmallFit + " --density 1070 --yaml " +
+                            yaml + " --name pad_silicone");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  for (const char* text : {"Young's modulus", "Hertz estimate", "residual", "simulations"}) {
+    EXPECT_NE(run.out.find(text), std::string::npos) << text << " in\n" << run.out;
+  }
+  const std::string entry = ReadFile(yaml);
+  EXPECT_NE(entry.find("materials:\n  pad_silicone:\n    youngs: "), std::string::npos) << entry;
+  EXPECT_NE(entry.find("    poisson: 0.49\n    density: 1070\n"), std::string::npos) << entry;
+  std::remove(csv.c_str());
+  std::remove(yaml.c_str());
+}
+
+TEST(LabCliFit, BadCurvesGetOneLineNamingTheRow) {
+  const std::string csv = TempPath("bad.csv");
+  const std::pair<std::string, std::string> cases[] = {
+      {"", "no depth_m,force_N rows"},
+      {"depth_m,force_N\n0.001,0.1\n0.002,x\n", "line 3: not a number"},
+      {"depth_m,force_N\n-0.001,0.1\n", "line 2: negative depth"},
+      {"depth_m,force_N\n0.002,0.1\n0.001,0.2\n", "line 3: depth 0.001 is not greater"},
+      {"depth_m,force_N\n0.001,nan\n", "line 2: NaN"},
+  };
+  for (const auto& [text, message] : cases) {
+    WriteFile(csv, text);
+    const LabRun run = RunLab("fit --indent " + csv + " " + kSmallFit);
+    EXPECT_EQ(run.exit_code, 2) << text;
+    EXPECT_EQ(CountLines(run.err), 1) << run.err;
+    EXPECT_NE(run.err.find(message), std::string::npos) << run.err;
+    EXPECT_TRUE(run.out.empty()) << run.out;
+  }
+  const LabRun missing = RunLab("fit --indent " + TempPath("none.csv") + " " + kSmallFit);
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_EQ(CountLines(missing.err), 1) << missing.err;
+  WriteFile(csv, "0.001,0.1\n0.002,0.3\n");
+  const LabRun name = RunLab("fit --indent " + csv + " " + kSmallFit + " --name 9lives");
+  EXPECT_EQ(name.exit_code, 2);
+  EXPECT_NE(name.err.find("not a parameter name"), std::string::npos) << name.err;
+  std::remove(csv.c_str());
+}
+
+}  // namespace
