@@ -33,7 +33,7 @@ struct IndentationFitResult {
 };
 
 /// The modulus E for which Hertz's force 4/3 E/(1 − ν²) √R δ^{3/2} fits the curve best in least
-/// squares (docs/physics.md §6). Throws std::invalid_argument if no point has depth > 0 or the
+/// squares (docs/physics.md §6.1). Throws std::invalid_argument if no point has depth > 0 or the
 /// forces do not add up to a positive fit.
 double HertzYoungsModulus(const std::vector<IndentationPoint>& curve, double poisson,
                           double sphere_radius);
@@ -43,13 +43,13 @@ double HertzYoungsModulus(const std::vector<IndentationPoint>& curve, double poi
 double LeastSquaresScale(const std::vector<IndentationPoint>& curve,
                          const std::vector<IndentationSample>& profile);
 
-/// Finds the Young's modulus whose simulated indentation reproduces the measured curve: a 1-D
-/// search on g(log E) = log s(E), s the least-squares scale above, which is 0 at the fit and
-/// falls with slope about −1 (force is nearly proportional to E at fixed geometry and ν). It
-/// starts at Hertz's estimate, takes one fixed-point step E ← s E, then secant steps (a step
-/// whose secant slope is not negative falls back to the fixed-point step; steps are limited to a
-/// factor of 4 in E). Preconditions: `curve` from ReadIndentationCurve; `simulate` returns a
-/// non-empty profile for every E > 0. Throws std::invalid_argument for bad options and
+/// Finds the Young's modulus whose simulated indentation reproduces the measured curve
+/// (docs/physics.md §6.1): a 1-D search on g(log E) = log s(E), s the least-squares scale above,
+/// which is 0 at the fit and falls with slope about −1 (force is nearly proportional to E at fixed
+/// geometry and ν). It starts at Hertz's estimate, takes one fixed-point step E ← s E, then secant
+/// steps (a step whose secant slope is not negative falls back to the fixed-point step; steps are
+/// limited to a factor of 4 in E). Preconditions: `curve` from ReadIndentationCurve; `simulate`
+/// returns a non-empty profile for every E > 0. Throws std::invalid_argument for bad options and
 /// std::runtime_error if a simulation gives no positive force at the measured depths.
 IndentationFitResult FitYoungsModulus(const std::vector<IndentationPoint>& curve,
                                       const IndentationSimulator& simulate,
