@@ -16,6 +16,7 @@ packages=(
   python3-rostest librostest-dev python3-roslaunch
   liburdfdom-dev libassimp-dev libeigen3-dev libcgal-dev
   libcli11-dev nlohmann-json3-dev libyaml-cpp-dev python3-matplotlib
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   # The benchmark peer: bench/bullet_comparison_benchmark.cpp times btSoftBody on the same lattice.
   libbullet-dev

@@ -167,6 +167,15 @@ std::string Simulation::SetMaterial(const std::string& name, double youngs, doub
   }
 }
 
+std::string Simulation::SetPublishing(double publish_rate, bool real_time) {
+  if (!std::isfinite(publish_rate) || publish_rate <= 0.0) {
+    return "publish_rate must be finite and > 0 Hz";
+  }
+  config_.world.publish_rate = publish_rate;
+  config_.world.real_time = real_time;
+  return {};
+}
+
 void Simulation::Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline) {
   const double dt = config_.world.time_step;
   const int steps = static_cast<int>(std::floor(seconds / dt + 1e-9));

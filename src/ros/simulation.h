@@ -80,6 +80,12 @@ class Simulation {
                                                bool paused, bool timing = true);
 
   const RobotColliders& robot() const { return *robot_; }
+  std::size_t num_objects() const { return objects_.size(); }
+  /// Object `index`'s configuration as it is now (~set_material changes the material).
+  const ObjectConfig& object_config(std::size_t index) const { return objects_.at(index).config; }
+  /// Sets the publication rate (Hz, finite, > 0) and real-time pacing the node reads from
+  /// config().world; returns an empty string or why it was refused (then nothing changed).
+  std::string SetPublishing(double publish_rate, bool real_time);
 
  private:
   struct Object {

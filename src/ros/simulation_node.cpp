@@ -42,21 +42,43 @@ SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_h
   set_material_ =
       private_handle_.advertiseService("set_material", &SimulationNode::OnSetMaterial, this);
 
-  const double period = 1.0 / config.world.publish_rate;
   last_publish_wall_ = ros::WallTime::now();
-  if (config.world.real_time) {
+  StartTimer();
+  tuning_ = std::make_unique<RuntimeTuning>(
+      private_handle_, simulation_.get(),
+      [this](double rate, bool real_time) { return SetPublishing(rate, real_time); });
+}
+
+void SimulationNode::StartTimer() {
+  timer_.stop();
+  wall_timer_.stop();
+  const WorldConfig& world = simulation_->config().world;
+  if (world.real_time) {
     // ros::Timer follows ROS time, so with use_sim_time /clock drives the stepping.
-    timer_ = handle_.createTimer(ros::Duration(period), &SimulationNode::OnTimer, this);
+    timer_ = handle_.createTimer(ros::Duration(1.0 / world.publish_rate), &SimulationNode::OnTimer,
+                                 this);
   } else {
     wall_timer_ =
         handle_.createWallTimer(ros::WallDuration(1e-4), &SimulationNode::OnWallTimer, this);
   }
 }
 
+std::string SimulationNode::SetPublishing(double publish_rate, bool real_time) {
+  const bool was_real_time = simulation_->config().world.real_time;
+  const std::string problem = simulation_->SetPublishing(publish_rate, real_time);
+  if (!problem.empty()) return problem;
+  // Real-time pacing restarts from the simulated time reached (as after a pause).
+  if (real_time && !was_real_time) started_ = false;
+  StartTimer();
+  ROS_INFO("msm_sim: publishing at %g Hz, %s", publish_rate,
+           real_time ? "paced in real time" : "as fast as possible");
+  return {};
+}
+
 void SimulationNode::OnTimer(const ros::TimerEvent& event) {
   const ros::Time now = event.current_real;
   if (!started_) {
-    origin_ = now;
+    origin_ = now - ros::Duration(simulation_->time());  // 0 unless it ran unpaced before
     started_ = true;
   }
   simulation_->UpdateRobot(tf_buffer_, now);

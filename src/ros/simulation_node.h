@@ -16,6 +16,7 @@
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_ros/transform_listener.h>
 
+#include "runtime_tuning.h"
 #include "simulation.h"
 
 namespace msm_sim::ros_interface {
@@ -41,6 +42,10 @@ class SimulationNode {
   bool OnResume(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   bool OnSetMaterial(msm_sim::SetMaterial::Request& request,
                      msm_sim::SetMaterial::Response& response);
+  /// (Re)starts the stepping and publication timer for config().world's rate and pacing.
+  void StartTimer();
+  /// ~reconfigure/world: a new publication rate and pacing; "" or why it was refused.
+  std::string SetPublishing(double publish_rate, bool real_time);
   /// ROS_WARN for a dropped message, throttled to one a second per kind of problem.
   void WarnDropped(const std::string& source, const std::string& reason);
 
@@ -56,6 +61,7 @@ class SimulationNode {
   ros::ServiceServer reset_, pause_, resume_, set_material_;
   ros::Timer timer_;
   ros::WallTimer wall_timer_;
+  std::unique_ptr<RuntimeTuning> tuning_;  // after simulation_, which it uses
   tf2_ros::Buffer tf_buffer_;
   tf2_ros::TransformListener tf_listener_;
   tf2_ros::TransformBroadcaster tf_broadcaster_;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <sstream>
 
 #include <sensor_msgs/point_cloud2_iterator.h>
@@ -199,6 +200,12 @@ diagnostic_msgs::DiagnosticArray Simulation::Diagnostics(const ros::Time& stamp,
   }
   for (const Object& object : objects_) {
     add("energy " + object.config.name + " [J]", text(world_.ComputeEnergies(object.body).total()));
+  }
+  // The calibrated springs, so that a new material (~set_material, ~reconfigure) shows.
+  for (const Object& object : objects_) {
+    const std::vector<double>& k = world_.model(object.body).spring_stiffness();
+    const double mean = k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size();
+    add("mean spring stiffness " + object.config.name + " [N/m]", text(mean));
   }
   array.status.push_back(status);
   steps_since_report_ = 0;
