@@ -52,10 +52,12 @@ void StepToFirstContact(World* world, int body, int sphere,
 }
 
 // Presses from first contact to the full depth, one profile row per run of steps covering
-// about D / samples of depth: the mean depth and force of its steps.
-std::vector<IndentationSample> Press(World* world, int body, int sphere,
+// about D / samples of depth: the mean depth and force of its steps. Depth is measured from
+// `touch_z`, the sphere's height when it touches the first collision sphere under it, not from
+// the end of the step that first records a force: that step ends up to one step's travel later,
+// which read as a force 6 % above Hertz's at 0.5 mm deep and 31 % at 0.1 mm (20 um steps).
+std::vector<IndentationSample> Press(World* world, int body, int sphere, double touch_z,
                                      const IndentationExperimentOptions& options) {
-  const double contact_z = world->collider(sphere).pose.translation().z();
   const int steps_per_row =
       std::max(1, static_cast<int>(std::lround(options.depth / options.samples /
                                                (options.speed * options.step))));
@@ -66,7 +68,7 @@ std::vector<IndentationSample> Press(World* world, int body, int sphere,
   double depth = 0.0;
   while (depth < options.depth * (1.0 - 1e-9)) {
     StepOrThrow(world, options.step);
-    depth = contact_z - world->collider(sphere).pose.translation().z();
+    depth = touch_z - world->collider(sphere).pose.translation().z();
     row.depth += depth;
     row.force += world->wrenches(body)[sphere].force.z();
     if (++in_row < steps_per_row && depth < options.depth * (1.0 - 1e-9)) continue;
@@ -159,9 +161,10 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
     Hold(&world, body, sphere, options, &result);
     return result;
   }
+  const double touch_z = world.collider(sphere).pose.translation().z() - options.start_gap;
   StepToFirstContact(&world, body, sphere, options);
   result.contact_time = world.time();
-  result.profile = Press(&world, body, sphere, options);
+  result.profile = Press(&world, body, sphere, touch_z, options);
   result.seconds_simulated = world.time();
   result.steps = static_cast<int>(std::lround(world.time() / options.step));
   return result;

@@ -78,7 +78,7 @@ struct LabArguments {
   double strain = 0.01;  ///< compression and poisson-sweep
   double force = 0.0;    ///< deflection only, N
   std::vector<double> targets = {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49};  ///< poisson-sweep
-  std::string plot;  ///< poisson-sweep: PNG to write, empty for none
+  std::string plot;  ///< poisson-sweep and indent: PNG to write, empty for none
   std::string out;   ///< build: model file to write, empty for none
   std::string vtk;   ///< build: .vtu file to write, empty for none
   SlideArguments slide;

@@ -10,6 +10,7 @@
 #include "msm_sim/experiments/indentation_experiment.h"
 #include "msm_sim/experiments/realtime_experiment.h"
 #include "msm_sim/model/model_statistics.h"
+#include "sweep_plot.h"
 
 namespace msm_sim::lab {
 namespace {
@@ -128,16 +129,20 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   const auto model = LabBlock(arguments.model);
   const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);
   const Json held = RunHeldIndent(options, result, contact.start_depth, model);
+  Json profile = Json::array();
+  for (const core::IndentationSample& row : result.profile) {
+    profile.push_back({row.depth, row.force, row.hertz_force});
+  }
+  Json json{{"profile", profile},
+            {"nodes", model->num_nodes()},
+            {"seconds", result.seconds_simulated},
+            {"integrator", contact.integrator}};
+  if (!held.is_null()) json.update(held);
+  if (!arguments.plot.empty()) {
+    const std::string failure = PlotIndentation(json.dump(), arguments.plot);
+    if (!failure.empty()) throw std::runtime_error(failure);
+  }
   if (arguments.json) {
-    Json profile = Json::array();
-    for (const core::IndentationSample& row : result.profile) {
-      profile.push_back({row.depth, row.force, row.hertz_force});
-    }
-    Json json{{"profile", profile},
-              {"nodes", model->num_nodes()},
-              {"seconds", result.seconds_simulated},
-              {"integrator", contact.integrator}};
-    if (!held.is_null()) json.update(held);
     out << json.dump() << "\n";
     return 0;
   }
@@ -153,6 +158,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
         << std::setw(12) << row.hertz_force << "\n";
   }
   PrintHeld(held, out);
+  if (!arguments.plot.empty()) out << "\nplot: " << arguments.plot << "\n";
   out << std::defaultfloat << std::setprecision(4) << "\nsimulated        "
       << result.seconds_simulated << " s\n"
       << "time: " << Seconds(start) << " s\n";

@@ -90,6 +90,8 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
                    "hold it there 0.2 s: penetration recovery (m)")
       ->capture_default_str()
       ->check(Finite(true));
+  indent->add_option("--plot", line->arguments.plot,
+                     "write a plot of the force and Hertz's against depth to this PNG file");
   indent->add_flag("--json", line->arguments.json, "print one JSON object");
   AddFitCommand(app, line);
 }

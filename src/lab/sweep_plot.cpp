@@ -30,11 +30,11 @@ std::string TemporaryFile(const char* suffix, const std::string& contents) {
   return pattern;
 }
 
-}  // namespace
-
-std::string PlotPoissonSweep(const std::string& sweep_json, const std::string& png_path) {
-  const std::string json_file = TemporaryFile(".json", sweep_json);
-  const std::string script_file = TemporaryFile(".py", kPoissonSweepPlotScript);
+// Runs one of the embedded plotting scripts on the JSON text; "" or a one-line reason.
+std::string RunPlotScript(const char* script, const std::string& json,
+                          const std::string& png_path) {
+  const std::string json_file = TemporaryFile(".json", json);
+  const std::string script_file = TemporaryFile(".py", script);
   const std::string error_file = TemporaryFile(".txt", "");
   if (json_file.empty() || script_file.empty() || error_file.empty()) {
     return "cannot create temporary files for the plot";
@@ -57,6 +57,16 @@ std::string PlotPoissonSweep(const std::string& sweep_json, const std::string& p
   std::remove(script_file.c_str());
   std::remove(error_file.c_str());
   return reason;
+}
+
+}  // namespace
+
+std::string PlotPoissonSweep(const std::string& sweep_json, const std::string& png_path) {
+  return RunPlotScript(kPoissonSweepPlotScript, sweep_json, png_path);
+}
+
+std::string PlotIndentation(const std::string& indent_json, const std::string& png_path) {
+  return RunPlotScript(kIndentationPlotScript, indent_json, png_path);
 }
 
 }  // namespace msm_sim::lab

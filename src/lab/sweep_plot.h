@@ -8,4 +8,8 @@ namespace msm_sim::lab {
 /// Returns an empty string on success, otherwise a one-line reason.
 std::string PlotPoissonSweep(const std::string& sweep_json, const std::string& png_path);
 
+/// The same for `msm_lab indent --json`'s object (or a list of them): force and Hertz's force
+/// against depth, and their ratio.
+std::string PlotIndentation(const std::string& indent_json, const std::string& png_path);
+
 }  // namespace msm_sim::lab

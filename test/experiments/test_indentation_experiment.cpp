@@ -38,7 +38,10 @@ TEST(IndentationExperiment, ForceGrowsWithDepthNearHertz) {
   const IndentationExperimentResult result = RunIndentationExperiment(CoarseBlock(0.25), options);
   ASSERT_EQ(result.profile.size(), 50u);  // rows of 16 steps of 5 um
   EXPECT_GT(result.contact_time, 0.0);
-  EXPECT_NEAR(result.seconds_simulated - result.contact_time, 0.8, 1e-9);  // 4 mm at 5 mm/s
+  // 4 mm from touchdown at 5 mm/s; the gap of 0.1 mm closes at the end of step 20 and the first
+  // force is recorded at the end of step 21, one step into the 800.
+  EXPECT_NEAR(result.contact_time, 0.021, 1e-9);
+  EXPECT_NEAR(result.seconds_simulated - result.contact_time, 0.799, 1e-9);
   double previous_depth = -1.0, previous_force = 0.0;
   for (const IndentationSample& row : result.profile) {
     EXPECT_GT(row.depth, previous_depth);

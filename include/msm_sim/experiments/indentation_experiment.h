@@ -14,8 +14,10 @@ namespace msm_sim::core {
 /// The body is the model at rest, without gravity (so that it does not sag before contact); a
 /// kinematic group fixes the nodes within half a characteristic length of its lowest node. The
 /// sphere starts `start_gap` above the collision spheres of the nodes under it, above the centre
-/// of the model's bounding box, and moves down at `speed` until it is `depth` past first contact
-/// (the end of the first step in which the body exerts a force on it).
+/// of the model's bounding box, and moves down at `speed` until it is `depth` past first contact.
+/// Depth is measured from the height at which the sphere touches the first of those collision
+/// spheres (the body at rest, computed from the geometry), not from the step that first records
+/// a force, which ends up to one step's travel later.
 struct IndentationExperimentOptions {
   double sphere_radius = 0.01;  ///< R (m), finite, > 0 (the demo robot's fingertip)
   double depth = 0.005;         ///< D (m), finite, > 0 and less than the body's height
@@ -48,8 +50,8 @@ struct IndentationSample {
 
 struct IndentationExperimentResult {
   std::vector<IndentationSample> profile;  ///< by increasing depth
-  double contact_time = 0.0;               ///< s, simulated time at the end of first contact
-  double seconds_simulated = 0.0;          ///< s, up to depth D
+  double contact_time = 0.0;       ///< s, simulated time at the end of the first step with force
+  double seconds_simulated = 0.0;  ///< s, up to depth D
   int steps = 0;
   /// start_depth > 0 only. Overlap (m): the deepest penetration of a border node's collision
   /// sphere into the indenter, max over the nodes of R + r_node - |x_node - c| (<= 0: none);
