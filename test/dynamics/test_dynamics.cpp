@@ -86,13 +86,19 @@ Collider Ground(double height = 0.0, double friction = 0.5) {
   return ground;
 }
 
-// Thesis 6.2: the split elastic response conserves energy. A frictionless, undamped elastic
-// ball of 360 nodes dropped from 0.2 m bounces on the ground for 10 s. The split response stops
-// a node for one substep at each contact, which costs energy to first order in the step (2.4 %
-// over 10 s at 1 ms, 0.6 % at 0.5 ms); at 0.2 ms the total stays within 1 % at every instant.
-TEST(Energy, ElasticBallBouncingForTenSecondsKeepsItsEnergy) {
+// What a bouncing ball's total energy E(t) did (fractions of its start E0).
+struct BounceRecord {
+  int flights = 0;
+  double worst_deviation = 0.0;  ///< max |E / E0 - 1|
+  double largest_gain = 0.0;     ///< max (E_k - E_{k-1}) / E0 over single steps
+  double loss_per_second = 0.0;  ///< -slope of the least-squares line through E / E0 (1/s)
+};
+
+// Thesis 6.2: a frictionless, undamped elastic ball of 360 nodes (E = 100 kPa) dropped from
+// 0.2 m bounces on the ground for 10 s in steps of `step` (s).
+BounceRecord BounceBallForTenSeconds(const WorldOptions& world_options, double step) {
   const auto ball = Ball(0.1, 0.025, Material::FromYoungsPoisson(1e5, 0.3, 1000.0));
-  World world;
+  World world(world_options);
   BodyOptions options;
   options.friction = 0.0;
   const int body = world.AddBody("ball", ball, options);
@@ -101,20 +107,41 @@ TEST(Energy, ElasticBallBouncingForTenSecondsKeepsItsEnergy) {
   state.positions.row(2).array() += 0.3;
   world.SetState(body, state);
   const double initial = world.ComputeEnergies(body).total();
-  double worst = 0.0;
-  int flights = 0;
+  BounceRecord record;
   bool airborne = true;
-  for (int step = 0; step < 50000; ++step) {
-    const StepReport report = world.Step(2e-4);
-    ASSERT_TRUE(report.accepted) << report.reason;
+  double previous = 1.0, n = 0.0, sum_t = 0.0, sum_e = 0.0, sum_tt = 0.0, sum_te = 0.0;
+  const int steps = static_cast<int>(std::lround(10.0 / step));
+  for (int k = 1; k <= steps; ++k) {
+    const StepReport report = world.Step(step);
+    EXPECT_TRUE(report.accepted) << report.reason;
+    if (!report.accepted) break;
     const bool now_airborne = world.state(body).positions.row(2).minCoeff() > 0.03;
-    flights += now_airborne && !airborne;
+    record.flights += now_airborne && !airborne;
     airborne = now_airborne;
-    worst = std::max(worst, std::abs(world.ComputeEnergies(body).total() / initial - 1.0));
+    const double e = world.ComputeEnergies(body).total() / initial, t = k * step;
+    record.worst_deviation = std::max(record.worst_deviation, std::abs(e - 1.0));
+    record.largest_gain = std::max(record.largest_gain, e - previous);
+    previous = e;
+    n += 1.0, sum_t += t, sum_e += e, sum_tt += t * t, sum_te += t * e;
   }
-  std::printf("  %d flights in 10 s, largest energy deviation %.3f %%\n", flights, 100 * worst);
-  EXPECT_GE(flights, 10);
-  EXPECT_LT(worst, 0.01);
+  record.loss_per_second = -(n * sum_te - sum_t * sum_e) / (n * sum_tt - sum_t * sum_t);
+  std::printf(
+      "  %s, %.1f ms steps: %d flights in 10 s, largest energy deviation %.3f %%, loss %.4f %% "
+      "per second, largest gain in one step %.4f %%\n",
+      IntegratorName(world_options.integrator), 1e3 * step, record.flights,
+      100 * record.worst_deviation, 100 * record.loss_per_second, 100 * record.largest_gain);
+  return record;
+}
+
+// The split elastic response conserves energy. It stops a node for one substep at each contact,
+// which costs energy to first order in the step (2.4 % over 10 s at 1 ms, 0.6 % at 0.5 ms); at
+// 0.2 ms the total stays within 1 % at every instant. Single steps in contact gain up to 0.5 % of
+// it and give it back in the next ones (with e = 1 only; README "Dynamics"), so the per-step gain
+// is reported, not bounded.
+TEST(Energy, ElasticBallBouncingForTenSecondsKeepsItsEnergy) {
+  const BounceRecord record = BounceBallForTenSeconds(WorldOptions{}, 2e-4);
+  EXPECT_GE(record.flights, 10);
+  EXPECT_LT(record.worst_deviation, 0.01);
 }
 
 // A single node (no springs) with a collision sphere of 25 mm.
