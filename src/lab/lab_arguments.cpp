@@ -14,8 +14,8 @@
 namespace msm_sim::lab {
 namespace {
 
-constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
-                                     "slide",       "realtime",   "indent",        "fit"};
+constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build", "slide",
+                                     "realtime",    "indent",     "fit",           "grip"};
 
 // The sphere commands' model options: --model defaults to cubic.
 bool ModelOptional(Body body) {
@@ -245,6 +245,14 @@ void ApplyFitDefaults(CommandLine* line) {
   if (line->fit->get_option("--poisson")->count() == 0) model.poisson = 0.49;
 }
 
+// grip's defaults (see its help): a 4 cm cube of the material.
+void ApplyGripDefaults(CommandLine* line) {
+  ModelArguments& model = line->arguments.model;
+  if (line->size.empty()) line->size = {0.04, 0.04, 0.04};
+  if (line->grip->get_option("--youngs")->count() == 0) model.youngs = 2e5;
+  if (line->grip->get_option("--density")->count() == 0) model.density = 1100.0;
+}
+
 // The parsed command, with the checked vectors copied into the arguments.
 LabArguments ParsedArguments(CommandLine* line) {
   LabArguments& arguments = line->arguments;
@@ -270,6 +278,9 @@ LabArguments ParsedArguments(CommandLine* line) {
   } else if (line->fit->parsed()) {
     arguments.command = LabCommand::kFit;
     ApplyFitDefaults(line);
+  } else if (line->grip->parsed()) {
+    arguments.command = LabCommand::kGrip;
+    ApplyGripDefaults(line);
   } else {
     arguments.command = LabCommand::kPoissonSweep;
     ApplySweepDefaults(line);
@@ -294,11 +305,12 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   AddBuildCommand(&app, &line);
   AddSlideCommand(&app, &line);
   AddSphereCommands(&app, &line);
+  AddGripCommand(&app, &line);
 
   if (IsUnknownCommand(argv)) {
     return Failure("unknown command '" + argv[1] +
                    "' (expected compression, deflection, poisson-sweep, build, slide, realtime, "
-                   "indent or fit)");
+                   "indent, fit or grip)");
   }
   // CLI11 wants argv without the program name, in reverse order.
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());

@@ -39,7 +39,8 @@ enum class LabCommand {
   kSlide,
   kRealtime,
   kIndent,
-  kFit
+  kFit,
+  kGrip
 };
 
 /// `msm_lab slide`: a box of nodes sliding to a stop on the ground (thesis 6.4).
@@ -72,6 +73,16 @@ struct FitArguments {
   std::string name = "fitted_material";  ///< the material's name in the YAML entry
 };
 
+/// `msm_lab grip`: a block squeezed between two rigid jaws and lifted
+/// (core::RunGripExperiment; its defaults).
+struct GripArguments {
+  double ratio = 1.3;                   ///< 2 mu F_n / (m g) the friction is chosen for
+  double squeeze = 2e-4;                ///< m, each jaw's travel into the block
+  double damping = 1e-3;                ///< s, spring dampers c = beta k
+  double lift_time = 2.0;               ///< s
+  std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
+};
+
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
@@ -84,6 +95,7 @@ struct LabArguments {
   SlideArguments slide;
   ContactArguments contact;
   FitArguments fit;
+  GripArguments grip;
   bool json = false;
 };
 

@@ -18,7 +18,7 @@ enum class Body {
   kMesh,          // --mesh, required
   kDefaultBox,    // --size optional (poisson-sweep has defaults)
   kBlock,         // --size required, --model optional (cubic): indent
-  kDefaultBlock,  // --size, --model, --youngs, --density optional (the block): realtime
+  kDefaultBlock,  // --size, --model, --youngs, --density optional (defaults): realtime, grip
   kFitBlock,      // --size required; --model, --spacing, --poisson optional, no --youngs: fit
 };
 
@@ -38,6 +38,7 @@ struct CommandLine {
   CLI::App* realtime = nullptr;
   CLI::App* indent = nullptr;
   CLI::App* fit = nullptr;
+  CLI::App* grip = nullptr;
 };
 
 /// Options describing the model, in the order --help lists them.
@@ -48,5 +49,8 @@ CLI::Validator Finite(bool zero_allowed);
 
 /// The realtime, indent and fit commands.
 void AddSphereCommands(CLI::App* app, CommandLine* line);
+
+/// The grip command (lab_grip_arguments.cpp).
+void AddGripCommand(CLI::App* app, CommandLine* line);
 
 }  // namespace msm_sim::lab

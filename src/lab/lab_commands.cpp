@@ -339,6 +339,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunIndent(arguments, out);
     case LabCommand::kFit:
       return RunFit(arguments, out, err);
+    case LabCommand::kGrip:
+      return RunGrip(arguments, out);
   }
   return 1;
 }

@@ -7,6 +7,7 @@
 
 #include "lab_model.h"
 #include "lab_report.h"
+#include "msm_sim/experiments/grip_experiment.h"
 #include "msm_sim/experiments/indentation_experiment.h"
 #include "msm_sim/experiments/realtime_experiment.h"
 #include "msm_sim/model/model_statistics.h"
@@ -162,6 +163,53 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   out << std::defaultfloat << std::setprecision(4) << "\nsimulated        "
       << result.seconds_simulated << " s\n"
       << "time: " << Seconds(start) << " s\n";
+  return 0;
+}
+
+int RunGrip(const LabArguments& arguments, std::ostream& out) {
+  const GripArguments& grip = arguments.grip;
+  core::GripExperimentOptions options;
+  options.hold_ratio = grip.ratio;
+  options.squeeze = grip.squeeze;
+  options.damping_beta = grip.damping;
+  options.lift_time = grip.lift_time;
+  options.dispersion = Dispersion(arguments.model.dispersion);
+  options.integrator = IntegratorNamed(grip.integrator);
+  const auto model = LabBlock(arguments.model);
+  const core::GripExperimentResult r = core::RunGripExperiment(model, options);
+  if (arguments.json) {
+    const Json json{{"ratio", grip.ratio},
+                    {"integrator", grip.integrator},
+                    {"nodes", model->num_nodes()},
+                    {"weight", r.weight},
+                    {"normal_force", r.normal_force},
+                    {"lift_normal_force", r.lift_normal_force_mean},
+                    {"mu", r.friction},
+                    {"slip", r.slip},
+                    {"max_slip", r.max_slip},
+                    {"seconds_lifted", r.seconds_lifted},
+                    {"held", r.held}};
+    out << json.dump() << "\n";
+    return 0;
+  }
+  const Eigen::Vector3d& size = arguments.model.size;
+  out << "grip: block " << size.x() << " x " << size.y() << " x " << size.z()
+      << " m between two rigid jaws, squeezed " << 1e3 * grip.squeeze << " mm each, dampers beta "
+      << grip.damping << " s\n";
+  PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
+  out << std::setprecision(4) << "integrator       " << grip.integrator << ", step "
+      << 1e3 * options.step << " ms\n"
+      << "weight m g       " << r.weight << " N\n"
+      << "F_n per jaw      " << r.normal_force << " N before the lift, " << r.lift_normal_force_mean
+      << " N during it (least " << r.lift_normal_force_min << " N)\n"
+      << "mu               " << r.friction << " (2 mu F_n = " << grip.ratio << " m g)\n"
+      << "slip             " << 1e3 * r.slip << " mm after " << r.seconds_lifted
+      << " s of lift (largest " << 1e3 * r.max_slip << " mm)\n"
+      << "verdict          "
+      << (r.held        ? "held"
+          : r.left_jaws ? "slid out of the jaws"
+                        : "slipping")
+      << "\n";
   return 0;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// The lab's dynamics commands with a rigid sphere pressed into a block (issue "Real time at real
-// resolution"): how fast the dynamics runs, and the indentation force against Hertz's.
+// The lab's dynamics commands: a rigid sphere pressed into a block (issue "Real time at real
+// resolution": how fast the dynamics runs, the indentation force against Hertz's) and a block
+// held between two jaws (issue "real time": the grip).
 
 #include <ostream>
 
@@ -18,5 +19,11 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out);
 /// Writes a table, or one JSON object with profile ([[depth, force, hertz_force], ...]), nodes
 /// and seconds (simulated). Returns 0; throws as RunRealtime.
 int RunIndent(const LabArguments& arguments, std::ostream& out);
+
+/// `msm_lab grip`: a block squeezed between two rigid jaws and lifted, mu from the measured
+/// normal force (core::RunGripExperiment). Writes a table, or one JSON object with exactly
+/// ratio, integrator, nodes, weight, normal_force, lift_normal_force, mu, slip, max_slip,
+/// seconds_lifted, held. Returns 0; throws as RunRealtime.
+int RunGrip(const LabArguments& arguments, std::ostream& out);
 
 }  // namespace msm_sim::lab
