@@ -199,6 +199,7 @@ diagnostic_msgs::DiagnosticArray Simulation::Diagnostics(const ros::Time& stamp,
     status.message = "running without part of the robot (see robot problems)";
   }
   for (const Object& object : objects_) {
+    add("nodes " + object.config.name, std::to_string(world_.model(object.body).num_nodes()));
     add("energy " + object.config.name + " [J]", text(world_.ComputeEnergies(object.body).total()));
   }
   // The calibrated springs, so that a new material (~set_material, ~reconfigure) shows.
