@@ -695,7 +695,7 @@ TEST(ReplayEquivalence, LiveNodeOnRosbagPlayAgreesWithTheReplay) {
   const std::string out = ::testing::TempDir() + "equivalence.bag";
   const std::string command =
       std::string(MSM_REPLAY_EXECUTABLE) + " --quiet --config " + MSM_SIM_PACKAGE_DIR +
-      "/config/default.yaml --config " + MSM_SIM_PACKAGE_DIR + "/config/demo.yaml --in " +
+      "/test/ros/replay_scene.yaml --config " + MSM_SIM_PACKAGE_DIR + "/config/demo.yaml --in " +
       MSM_SIM_PACKAGE_DIR + "/test/data/demo_input.bag --out " + out + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0);
   const auto replayed = ReplayedFingertip(out);

@@ -23,8 +23,9 @@ namespace {
 
 const std::string kData = MSM_SIM_TEST_DATA_DIR;
 const std::string kPackage = MSM_SIM_PACKAGE_DIR;
-const std::string kScene = " --config " + kPackage + "/config/default.yaml --config " + kPackage +
-                           "/config/demo.yaml --materials " + kPackage + "/config/materials.yaml";
+const std::string kScene = " --config " + kPackage + "/test/ros/replay_scene.yaml --config " +
+                           kPackage + "/config/demo.yaml --materials " + kPackage +
+                           "/config/materials.yaml";
 
 using ReplayRun = msm_sim::testing::CommandRun;
 
