@@ -1,7 +1,8 @@
 # msm_sim developer entry points. The repository root is the catkin package; it is built in a
 # catkin workspace under build/ws (ignored by git).
 #
-#   make demo   install dependencies, build, run the robot demo headless and print a summary
+#   make demo   install dependencies, build, run the robot demo headless, print a summary and
+#               plot it (build/demo/demo.png)
 #   make lab    the same, then the materials lab on a default block
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
 #   make bench  build and run the Google Benchmarks (bench/)
@@ -41,9 +42,13 @@ build: deps workspace
 	$(CATKIN_MAKE) $(JOBS)
 
 # The robot demo, headless for 10 s: a finger presses into the default soft block and drags
-# across it; prints the peak fingertip force, the real-time factor and the final energy.
+# across it; prints the node count, the peak fingertip force, the real-time factor and the final
+# energy, and writes build/demo/demo.csv and build/demo/demo.png (force and real-time factor
+# against time). run_demo.py ends the launch once the summary is done (exit 0).
+DEMO_DURATION ?= 10
 demo: build
-	source $(WS)/devel/setup.bash && roslaunch msm_sim demo.launch duration:=10
+	source $(WS)/devel/setup.bash && rosrun msm_sim run_demo.py duration:=$(DEMO_DURATION) \
+	  output_dir:=$(ROOT)/build/demo
 
 # The materials lab on a default block (what `make demo` ran before the node existed).
 lab: build

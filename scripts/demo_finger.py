@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Scripted joint states for the demo finger (urdf/finger_gantry.urdf).
 
-Presses the fingertip into the top of the default soft block, holds, drags it across along +x,
-holds and lifts, publishing sensor_msgs/JointState for slide_x and slide_z at ~rate Hz in ROS
-time. Parameters (private, SI units): ~start_delay, ~press_depth (below first contact),
-~press_time, ~hold_time, ~drag_distance, ~drag_time, ~contact_z (slide_z at first contact),
-~rate.
+Presses the fingertip into the top of the default soft block at slide_x = ~start_x, holds,
+drags it across along +x (from -1.5 cm to +1.5 cm, centred on the block), holds and lifts,
+publishing sensor_msgs/JointState for slide_x and slide_z at ~rate Hz in ROS time. Parameters
+(private, SI units): ~start_delay, ~start_x, ~press_depth (below first contact), ~press_time,
+~hold_time, ~drag_distance, ~drag_time, ~contact_z (slide_z at first contact), ~rate.
 """
 import rospy
 from sensor_msgs.msg import JointState
@@ -20,6 +20,7 @@ def smooth(s):
 def main():
     rospy.init_node("demo_finger")
     delay = rospy.get_param("~start_delay", 1.0)
+    start_x = rospy.get_param("~start_x", -0.015)
     depth = rospy.get_param("~press_depth", 0.008)
     press = rospy.get_param("~press_time", 2.0)
     hold = rospy.get_param("~hold_time", 1.0)
@@ -36,11 +37,11 @@ def main():
             rate.sleep()
             continue
         t = (rospy.Time.now() - start).to_sec() - delay
-        x, z = 0.0, up_z
+        x, z = start_x, up_z
         if t > 0.0:
             z = up_z - (up_z - (contact_z - depth)) * smooth(t / press)
         if t > press + hold:
-            x = drag * smooth((t - press - hold) / drag_time)
+            x = start_x + drag * smooth((t - press - hold) / drag_time)
         if t > press + 2.0 * hold + drag_time:
             z = (contact_z - depth) + (up_z - (contact_z - depth)) * smooth(
                 (t - press - 2.0 * hold - drag_time) / press)
