@@ -33,7 +33,7 @@ RuntimeTuning::RuntimeTuning(const ros::NodeHandle& private_handle, Simulation* 
   for (std::size_t i = 0; i < simulation_->num_objects(); ++i) {
     const ObjectConfig& object = simulation_->object_config(i);
     auto server = std::make_unique<ObjectServer>(
-        ros::NodeHandle(private_handle, "reconfigure/objects/" + object.name));
+        mutex_, ros::NodeHandle(private_handle, "reconfigure/objects/" + object.name));
     // The live values replace whatever an earlier run left on the parameter server; the first
     // callback (from setCallback) then sees no change.
     server->updateConfig(MaterialOf(object));
@@ -42,7 +42,7 @@ RuntimeTuning::RuntimeTuning(const ros::NodeHandle& private_handle, Simulation* 
     object_servers_.push_back(std::move(server));
   }
   world_server_ =
-      std::make_unique<WorldServer>(ros::NodeHandle(private_handle, "reconfigure/world"));
+      std::make_unique<WorldServer>(mutex_, ros::NodeHandle(private_handle, "reconfigure/world"));
   world_server_->updateConfig(TuningOf(simulation_->config().world));
   world_server_->setCallback(
       [this](msm_sim::WorldTuningConfig& config, uint32_t) { OnWorld(config); });

@@ -14,6 +14,7 @@
 #include <msm_sim/ObjectMaterialConfig.h>
 #include <msm_sim/WorldTuningConfig.h>
 #include <ros/ros.h>
+#include <boost/thread/recursive_mutex.hpp>
 
 #include "simulation.h"
 
@@ -39,6 +40,9 @@ class RuntimeTuning {
 
   Simulation* simulation_;
   WorldSetter set_world_;
+  // Shared by the servers: updateConfig on a server that owns its mutex may deadlock (the
+  // library warns), and the callbacks run on the node's one callback queue anyway.
+  boost::recursive_mutex mutex_;
   std::vector<std::unique_ptr<ObjectServer>> object_servers_;
   std::unique_ptr<WorldServer> world_server_;
 };
