@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace msm_sim::core {
 namespace {
@@ -110,6 +111,108 @@ IndentationFitResult FitYoungsModulus(const std::vector<IndentationPoint>& curve
     g0 = g1;
     x1 += std::clamp(step, -kLargestLogStep, kLargestLogStep);
   }
+  return result;
+}
+
+namespace {
+
+// One trial ν of FitYoungsAndPoisson: E fitted to the first curve, g of the second.
+struct PoissonTrial {
+  double poisson = 0.0, youngs = 0.0, g = 0.0, residual = 0.0, second_residual = 0.0;
+};
+
+void CheckMaterialFitOptions(const MaterialFitOptions& options) {
+  const double lo = options.lowest_poisson, hi = options.highest_poisson;
+  if (!(lo > -1.0) || !(hi < 0.5) || !(lo < hi)) {
+    throw std::invalid_argument(
+        "the Poisson's ratio bracket must satisfy -1 < lowest < highest < 0.5");
+  }
+  if (!(options.poisson_tolerance > 0.0) || options.max_poisson_trials < 2) {
+    throw std::invalid_argument("poisson_tolerance must be > 0 and max_poisson_trials >= 2");
+  }
+}
+
+// Regula falsi with the Illinois modification on g(ν) between two trials of opposite sign: the
+// best trial (least |g|); *converged when the bracket or |g| fell within the tolerances.
+PoissonTrial BracketedPoissonRoot(PoissonTrial low, PoissonTrial high,
+                                  const std::function<PoissonTrial(double)>& trial,
+                                  const MaterialFitOptions& options, bool* converged) {
+  PoissonTrial best = std::abs(low.g) < std::abs(high.g) ? low : high;
+  double g_low = low.g, g_high = high.g;  // Illinois: the stuck end's g is halved
+  int last_moved = 0;                     // -1 low, +1 high
+  const double g_tolerance = std::log1p(options.youngs.tolerance);
+  for (int trials = 2;
+       trials < options.max_poisson_trials &&
+       high.poisson - low.poisson > options.poisson_tolerance && std::abs(best.g) > g_tolerance;
+       ++trials) {
+    double poisson = (low.poisson * g_high - high.poisson * g_low) / (g_high - g_low);
+    if (!(poisson > low.poisson && poisson < high.poisson)) {
+      poisson = 0.5 * (low.poisson + high.poisson);
+    }
+    const PoissonTrial t = trial(poisson);
+    if (std::abs(t.g) < std::abs(best.g)) best = t;
+    if ((t.g > 0.0) == (low.g > 0.0)) {
+      low = t;
+      g_low = t.g;
+      if (last_moved == -1) g_high *= 0.5;
+      last_moved = -1;
+    } else {
+      high = t;
+      g_high = t.g;
+      if (last_moved == 1) g_low *= 0.5;
+      last_moved = 1;
+    }
+  }
+  *converged =
+      high.poisson - low.poisson <= options.poisson_tolerance || std::abs(best.g) <= g_tolerance;
+  return best;
+}
+
+}  // namespace
+
+MaterialFitResult FitYoungsAndPoisson(const std::vector<IndentationPoint>& first,
+                                      const std::vector<IndentationPoint>& second,
+                                      const MaterialSimulator& simulate_first,
+                                      const MaterialSimulator& simulate_second,
+                                      const MaterialFitOptions& options) {
+  CheckMaterialFitOptions(options);
+  if (second.empty()) throw std::invalid_argument("the second indentation curve is empty");
+  MaterialFitResult result;
+  const std::function<PoissonTrial(double)> trial = [&](double poisson) {
+    IndentationFitOptions inner = options.youngs;
+    inner.poisson = poisson;
+    const IndentationFitResult fit = FitYoungsModulus(
+        first, [&](double youngs) { return simulate_first(youngs, poisson); }, inner);
+    const std::vector<IndentationSample> profile = simulate_second(fit.youngs, poisson);
+    result.simulations += fit.simulations + 1;
+    const double scale = LeastSquaresScale(second, profile);
+    if (!(scale > 0.0) || !std::isfinite(scale)) {
+      throw std::runtime_error(
+          "the second sample's simulation gives no positive force at its "
+          "measured depths");
+    }
+    const PoissonTrial t{poisson, fit.youngs, std::log(scale), fit.residual,
+                         RelativeResidual(second, profile)};
+    result.trials.push_back({t.poisson, t.youngs, t.g});
+    return t;
+  };
+  PoissonTrial low = trial(options.lowest_poisson), high = trial(options.highest_poisson);
+  // Samples that respond alike to nu (g the same at both ends) cannot determine it.
+  const bool alike = std::abs(low.g - high.g) <= 2.0 * std::log1p(options.youngs.tolerance);
+  if (alike || (low.g > 0.0) == (high.g > 0.0)) {
+    throw std::runtime_error(
+        "no Poisson's ratio in [" + std::to_string(options.lowest_poisson) + ", " +
+        std::to_string(options.highest_poisson) +
+        "] reproduces both curves: the two samples must respond differently to nu (e.g. a block "
+        "much thicker than the contact and a thin layer clamped at its base)");
+  }
+  bool converged = false;
+  const PoissonTrial best = BracketedPoissonRoot(low, high, trial, options, &converged);
+  result.converged = converged;
+  result.youngs = best.youngs;
+  result.poisson = best.poisson;
+  result.residual = best.residual;
+  result.second_residual = best.second_residual;
   return result;
 }
 

@@ -243,6 +243,10 @@ void ApplyFitDefaults(CommandLine* line) {
   ModelArguments& model = line->arguments.model;
   if (model.spacing == 0.0 && model.target_nodes == 0) model.target_nodes = 4000;
   if (line->fit->get_option("--poisson")->count() == 0) model.poisson = 0.49;
+  const std::vector<double>& second = line->second_size;
+  if (!second.empty()) {
+    line->arguments.fit.second_size = Eigen::Vector3d(second[0], second[1], second[2]);
+  }
 }
 
 // grip's defaults (see its help): a 4 cm cube of the material.

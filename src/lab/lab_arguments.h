@@ -71,6 +71,10 @@ struct FitArguments {
   std::string curve;                     ///< CSV of depth_m,force_N rows
   std::string yaml;                      ///< write the fitted material here, empty for none
   std::string name = "fitted_material";  ///< the material's name in the YAML entry
+  /// --fit-poisson: nu too, from a second curve on a block of another thickness.
+  bool fit_poisson = false;
+  std::string second_curve;                               ///< its CSV
+  Eigen::Vector3d second_size = Eigen::Vector3d::Zero();  ///< its block (m)
 };
 
 /// `msm_lab grip`: a block squeezed between two rigid jaws and lifted

@@ -27,6 +27,7 @@ enum class Body {
 struct CommandLine {
   LabArguments arguments;
   std::vector<double> size;
+  std::vector<double> second_size;  // fit --size2
   std::vector<double> rotate;
   std::vector<int> slide_nodes;
   std::vector<double> slide_size;

@@ -25,50 +25,139 @@ std::vector<core::IndentationPoint> ReadCurve(const std::string& path) {
 // A parameter-server name: a letter, then letters, digits and underscores.
 void CheckMaterialName(const std::string& name) {
   bool valid = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0]));
-  for (const char c : name)
+  for (const char c : name) {
     valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+  }
   if (!valid) {
     throw std::invalid_argument("--name '" + name +
                                 "' is not a parameter name (a letter, then letters, digits, _)");
   }
 }
 
-void WriteYaml(const LabArguments& arguments, const core::IndentationFitResult& fit, int nodes) {
+// What either fit found, for the report and the YAML entry.
+struct FitOutcome {
+  double youngs = 0.0, poisson = 0.0, residual = 0.0;
+  int simulations = 0;
+  bool converged = false;
+  Json details;  // the fit's own JSON keys
+  int nodes = 0;
+  double deepest = 0.0;
+};
+
+// One measured sample: `indent` on its block, to its curve's deepest depth, for any material.
+struct Sample {
+  Sample(const LabArguments& arguments, const Eigen::Vector3d& size,
+         const std::vector<core::IndentationPoint>& curve)
+      : model(arguments.model) {
+    model.size = size;
+    body = LoadLabBody(model, true);
+    const ContactArguments& contact = arguments.contact;
+    options.sphere_radius = contact.sphere_radius;
+    options.depth = curve.back().depth;
+    options.speed = contact.speed;
+    options.damping_beta = contact.damping;
+    options.dispersion = model.dispersion == "one-pass" ? core::DispersionPasses::kOnePass
+                                                        : core::DispersionPasses::kTwoPass;
+    core::ParseIntegrator(contact.integrator, &options.integrator);
+  }
+
+  std::vector<core::IndentationSample> Simulate(double youngs, double poisson) {
+    ModelArguments material = model;
+    material.youngs = youngs;
+    material.poisson = poisson;
+    const auto built = std::make_shared<const core::Model>(BuildLabModel(material, body));
+    nodes = built->num_nodes();
+    return core::RunIndentationExperiment(built, options).profile;
+  }
+
+  ModelArguments model;
+  LabBody body;
+  core::IndentationExperimentOptions options;
+  int nodes = 0;
+};
+
+FitOutcome FitYoungs(const LabArguments& arguments,
+                     const std::vector<core::IndentationPoint>& curve) {
+  Sample sample(arguments, arguments.model.size, curve);
+  core::IndentationFitOptions options;
+  options.poisson = arguments.model.poisson;
+  options.sphere_radius = arguments.contact.sphere_radius;
+  const core::IndentationFitResult fit = core::FitYoungsModulus(
+      curve, [&](double youngs) { return sample.Simulate(youngs, options.poisson); }, options);
+  FitOutcome outcome;
+  outcome.youngs = fit.youngs;
+  outcome.poisson = options.poisson;
+  outcome.residual = fit.residual;
+  outcome.simulations = fit.simulations;
+  outcome.converged = fit.converged;
+  outcome.details = Json{{"hertz_youngs", fit.hertz_youngs}, {"tried", fit.tried}};
+  outcome.nodes = sample.nodes;
+  outcome.deepest = curve.back().depth;
+  return outcome;
+}
+
+FitOutcome FitYoungsAndPoisson(const LabArguments& arguments,
+                               const std::vector<core::IndentationPoint>& curve) {
+  const std::vector<core::IndentationPoint> second = ReadCurve(arguments.fit.second_curve);
+  Sample first_sample(arguments, arguments.model.size, curve);
+  Sample second_sample(arguments, arguments.fit.second_size, second);
+  core::MaterialFitOptions options;
+  options.youngs.sphere_radius = arguments.contact.sphere_radius;
+  const core::MaterialFitResult fit = core::FitYoungsAndPoisson(
+      curve, second, [&](double e, double nu) { return first_sample.Simulate(e, nu); },
+      [&](double e, double nu) { return second_sample.Simulate(e, nu); }, options);
+  FitOutcome outcome;
+  outcome.youngs = fit.youngs;
+  outcome.poisson = fit.poisson;
+  outcome.residual = fit.residual;
+  outcome.simulations = fit.simulations;
+  outcome.converged = fit.converged;
+  outcome.details = Json{{"second_residual", fit.second_residual}, {"trials", fit.trials}};
+  outcome.nodes = first_sample.nodes;
+  outcome.deepest = curve.back().depth;
+  return outcome;
+}
+
+void WriteYaml(const LabArguments& arguments, const FitOutcome& fit) {
   std::ofstream file(arguments.fit.yaml);
   const ModelArguments& model = arguments.model;
-  file << std::setprecision(6) << "# msm_lab fit of " << arguments.fit.curve << ": sphere radius "
-       << arguments.contact.sphere_radius << " m, block " << model.size.x() << " x "
-       << model.size.y() << " x " << model.size.z() << " m clamped at its base, " << nodes
-       << " nodes;\n# RMS residual " << fit.residual << " of the largest force, " << fit.simulations
-       << " simulations. Load it like config/materials.yaml.\n"
+  file << std::setprecision(6) << "# msm_lab fit of " << arguments.fit.curve
+       << (arguments.fit.fit_poisson ? " and " + arguments.fit.second_curve : "")
+       << ": sphere radius " << arguments.contact.sphere_radius << " m, block " << model.size.x()
+       << " x " << model.size.y() << " x " << model.size.z() << " m clamped at its base, "
+       << fit.nodes << " nodes;\n# RMS residual " << fit.residual << " of the largest force, "
+       << fit.simulations << " simulations. Load it like config/materials.yaml.\n"
        << "materials:\n  " << arguments.fit.name << ":\n    youngs: " << fit.youngs
-       << "\n    poisson: " << model.poisson << "\n    density: " << model.density << "\n";
+       << "\n    poisson: " << fit.poisson << "\n    density: " << model.density << "\n";
   if (!file.good()) throw std::runtime_error("cannot write " + arguments.fit.yaml);
 }
 
-void PrintFit(const LabArguments& arguments, const core::IndentationFitResult& fit, int nodes,
-              double deepest, std::ostream& out) {
+void PrintFit(const LabArguments& arguments, const FitOutcome& fit, std::ostream& out) {
   if (arguments.json) {
-    Json json{{"youngs", fit.youngs},
-              {"poisson", arguments.model.poisson},
-              {"hertz_youngs", fit.hertz_youngs},
-              {"residual", fit.residual},
-              {"simulations", fit.simulations},
-              {"converged", fit.converged},
-              {"tried", fit.tried},
-              {"nodes", nodes},
-              {"deepest_depth", deepest}};
+    Json json{{"youngs", fit.youngs},        {"poisson", fit.poisson},
+              {"residual", fit.residual},    {"simulations", fit.simulations},
+              {"converged", fit.converged},  {"nodes", fit.nodes},
+              {"deepest_depth", fit.deepest}};
+    json.update(fit.details);
     if (!arguments.fit.yaml.empty()) json["yaml"] = arguments.fit.yaml;
     out << json.dump() << "\n";
     return;
   }
-  out << std::setprecision(5) << "fit of " << arguments.fit.curve << " to " << 1e3 * deepest
-      << " mm, sphere radius " << arguments.contact.sphere_radius << " m, " << nodes
-      << " nodes, nu " << arguments.model.poisson << "\n"
+  out << std::setprecision(5) << "fit of " << arguments.fit.curve << " to " << 1e3 * fit.deepest
+      << " mm, sphere radius " << arguments.contact.sphere_radius << " m, " << fit.nodes
+      << " nodes\n"
       << "Young's modulus  " << fit.youngs << " Pa" << (fit.converged ? "" : " (not converged)")
-      << "\nHertz estimate   " << fit.hertz_youngs << " Pa (the search's start)\n"
-      << "residual         " << fit.residual << " (RMS of the largest force)\n"
-      << "simulations      " << fit.simulations << "\n";
+      << "\nPoisson's ratio  " << fit.poisson
+      << (arguments.fit.fit_poisson ? " (fitted to both curves)" : " (given)") << "\n";
+  if (fit.details.contains("hertz_youngs")) {
+    out << "Hertz estimate   " << fit.details["hertz_youngs"].get<double>()
+        << " Pa (the search's start)\n";
+  }
+  out << "residual         " << fit.residual << " (RMS of the largest force)\n";
+  if (fit.details.contains("second_residual")) {
+    out << "second residual  " << fit.details["second_residual"].get<double>() << "\n";
+  }
+  out << "simulations      " << fit.simulations << "\n";
   if (!arguments.fit.yaml.empty()) out << "material         " << arguments.fit.yaml << "\n";
 }
 
@@ -77,33 +166,14 @@ void PrintFit(const LabArguments& arguments, const core::IndentationFitResult& f
 int RunFit(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   CheckMaterialName(arguments.fit.name);
   const std::vector<core::IndentationPoint> curve = ReadCurve(arguments.fit.curve);
-  const ContactArguments& contact = arguments.contact;
-  core::IndentationExperimentOptions options;
-  options.sphere_radius = contact.sphere_radius;
-  options.depth = curve.back().depth;
-  options.speed = contact.speed;
-  options.damping_beta = contact.damping;
-  options.dispersion = arguments.model.dispersion == "one-pass" ? core::DispersionPasses::kOnePass
-                                                                : core::DispersionPasses::kTwoPass;
-  core::ParseIntegrator(contact.integrator, &options.integrator);
-  const LabBody body = LoadLabBody(arguments.model, true);
-  int nodes = 0;
-  const core::IndentationSimulator simulate = [&](double youngs) {
-    ModelArguments model = arguments.model;
-    model.youngs = youngs;
-    auto built = std::make_shared<const core::Model>(BuildLabModel(model, body));
-    nodes = built->num_nodes();
-    return core::RunIndentationExperiment(built, options).profile;
-  };
-  core::IndentationFitOptions fit_options;
-  fit_options.poisson = arguments.model.poisson;
-  fit_options.sphere_radius = contact.sphere_radius;
-  const core::IndentationFitResult fit = core::FitYoungsModulus(curve, simulate, fit_options);
-  if (!arguments.fit.yaml.empty()) WriteYaml(arguments, fit, nodes);
-  PrintFit(arguments, fit, nodes, options.depth, out);
+  const FitOutcome fit = arguments.fit.fit_poisson ? FitYoungsAndPoisson(arguments, curve)
+                                                   : FitYoungs(arguments, curve);
+  if (!arguments.fit.yaml.empty()) WriteYaml(arguments, fit);
+  PrintFit(arguments, fit, out);
   if (fit.converged) return 0;
   err << "msm_lab: error: the fit did not converge in " << fit.simulations
-      << " simulations (best E " << fit.youngs << " Pa, residual " << fit.residual << ")\n";
+      << " simulations (best E " << fit.youngs << " Pa, nu " << fit.poisson << ", residual "
+      << fit.residual << ")\n";
   return 1;
 }
 

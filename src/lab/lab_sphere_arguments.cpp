@@ -37,6 +37,22 @@ void AddFitCommand(CLI::App* app, CommandLine* line) {
   command->add_option("--speed", line->arguments.contact.speed, "the simulated probe's speed (m/s)")
       ->capture_default_str()
       ->check(Finite(false));
+  auto* fit_poisson = command->add_flag(
+      "--fit-poisson", fit.fit_poisson,
+      "fit nu too, from a second curve (--indent2) on a block of another thickness (--size2): "
+      "E from the first curve at each trial nu, nu where both are reproduced");
+  fit_poisson->excludes(command->get_option("--poisson"));
+  auto* second = command
+                     ->add_option("--indent2", fit.second_curve,
+                                  "--fit-poisson: the second CSV, on the --size2 block")
+                     ->check(CLI::ExistingFile);
+  auto* second_size =
+      command
+          ->add_option("--size2", line->second_size, "--fit-poisson: the second block LX LY LZ (m)")
+          ->expected(3);
+  fit_poisson->needs(second)->needs(second_size);
+  second->needs(fit_poisson);
+  second_size->needs(fit_poisson);
   command->add_option("--yaml", fit.yaml, "write the fitted material as a materials.yaml entry");
   command->add_option("--name", fit.name, "the material's name in that entry")
       ->capture_default_str();

@@ -144,5 +144,52 @@ TEST(IndentationFit, RefusesASimulationWithoutForce) {
       std::invalid_argument);
 }
 
+// Two stand-in samples: the first's force follows E/(1 - nu^2) (a thick block), the second's
+// also rises with nu (a thin clamped layer), each times Hertz's shape at E = 1 Pa.
+std::vector<IndentationSample> StandIn(double youngs, double poisson, bool layer) {
+  std::vector<IndentationSample> profile;
+  for (int i = 0; i <= 40; ++i) {
+    const double depth = 5e-5 * i;
+    const double stiffness =
+        youngs / (1.0 - poisson * poisson) * (layer ? 1.0 + 2.0 * poisson : 1.0);
+    profile.push_back({depth, stiffness * HertzForce(1.0, 0.0, 0.01, depth), 0.0});
+  }
+  return profile;
+}
+
+std::vector<IndentationPoint> Measured(const std::vector<IndentationSample>& profile) {
+  std::vector<IndentationPoint> curve;
+  for (std::size_t i = 1; i < profile.size(); ++i) {
+    curve.push_back({profile[i].depth, profile[i].force});
+  }
+  return curve;
+}
+
+TEST(MaterialFit, TwoSamplesThatRespondDifferentlyToNuDetermineBoth) {
+  const auto first = Measured(StandIn(2e5, 0.42, false));
+  const auto second = Measured(StandIn(2e5, 0.42, true));
+  MaterialFitOptions options;
+  options.youngs.sphere_radius = 0.01;
+  const MaterialFitResult fit = FitYoungsAndPoisson(
+      first, second, [](double e, double nu) { return StandIn(e, nu, false); },
+      [](double e, double nu) { return StandIn(e, nu, true); }, options);
+  EXPECT_TRUE(fit.converged);
+  EXPECT_NEAR(fit.poisson, 0.42, 0.002);
+  EXPECT_NEAR(fit.youngs / 2e5, 1.0, 0.003);
+  EXPECT_GE(fit.trials.size(), 3u);
+  EXPECT_LE(fit.trials.size(), 14u);
+  EXPECT_EQ(fit.trials[0][0], options.lowest_poisson);  // the bracket's ends come first
+  EXPECT_EQ(fit.trials[1][0], options.highest_poisson);
+}
+
+TEST(MaterialFit, SamplesThatRespondAlikeAreRefused) {
+  const auto first = Measured(StandIn(2e5, 0.3, false));
+  MaterialFitOptions options;
+  const auto same = [](double e, double nu) { return StandIn(e, nu, false); };
+  EXPECT_THROW(FitYoungsAndPoisson(first, first, same, same, options), std::runtime_error);
+  options.highest_poisson = 0.5;
+  EXPECT_THROW(FitYoungsAndPoisson(first, first, same, same, options), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace msm_sim::core

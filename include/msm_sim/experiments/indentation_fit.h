@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -54,5 +55,45 @@ double LeastSquaresScale(const std::vector<IndentationPoint>& curve,
 IndentationFitResult FitYoungsModulus(const std::vector<IndentationPoint>& curve,
                                       const IndentationSimulator& simulate,
                                       const IndentationFitOptions& options);
+
+/// The simulated profile of one sample made of a material (E in Pa, ν).
+using MaterialSimulator =
+    std::function<std::vector<IndentationSample>(double youngs, double poisson)>;
+
+struct MaterialFitOptions {
+  double lowest_poisson = 0.0;       ///< the bracket searched for ν, within (-1, 0.5)
+  double highest_poisson = 0.495;    ///< > lowest_poisson
+  double poisson_tolerance = 0.002;  ///< stop when the bracket is this narrow
+  int max_poisson_trials = 14;       ///< >= 2
+  /// The inner fits of E to the first curve (their poisson is each trial's).
+  IndentationFitOptions youngs;
+};
+
+struct MaterialFitResult {
+  double youngs = 0.0;           ///< Pa, fitted to the first curve at `poisson`
+  double poisson = 0.0;          ///< the root of g (below)
+  double residual = 0.0;         ///< the first curve's, as IndentationFitResult::residual
+  double second_residual = 0.0;  ///< the second curve's at (youngs, poisson)
+  int simulations = 0;           ///< of both samples
+  bool converged = false;        ///< the bracket narrowed to the tolerance
+  /// Every trial: ν, the E fitted at it and g = log s2 (the second curve's least-squares scale).
+  std::vector<std::array<double, 3>> trials;
+};
+
+/// Fits E and ν to two curves on samples whose force depends differently on ν (docs/physics.md
+/// §6.1): e.g. a block much thicker than the contact, whose force follows E/(1 − ν²), and a thin
+/// layer clamped at its base, which stiffens sharply as ν approaches ½. For each trial ν, E is
+/// fitted to the first curve (FitYoungsModulus with `simulate_first`); ν is then the root of
+/// g(ν) = log s2, s2 the least-squares scale of the second sample's simulated curve at (E(ν), ν)
+/// onto the second measured curve. g falls as ν rises (the second sample stiffens relative to
+/// the first); the root is found by bisection with regula-falsi (Illinois) steps. Throws
+/// std::invalid_argument for bad options and std::runtime_error if g does not change sign over
+/// the bracket or changes by less than twice the E fit's tolerance (the two curves do not
+/// determine ν there), or a simulation gives no force.
+MaterialFitResult FitYoungsAndPoisson(const std::vector<IndentationPoint>& first,
+                                      const std::vector<IndentationPoint>& second,
+                                      const MaterialSimulator& simulate_first,
+                                      const MaterialSimulator& simulate_second,
+                                      const MaterialFitOptions& options);
 
 }  // namespace msm_sim::core
