@@ -14,8 +14,9 @@
 namespace msm_sim::lab {
 namespace {
 
-constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build", "slide",
-                                     "realtime",    "indent",     "fit",           "grip"};
+constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
+                                     "slide",       "realtime",   "indent",        "fit",
+                                     "grip",        "material"};
 
 // The sphere commands' model options: --model defaults to cubic.
 bool ModelOptional(Body body) {
@@ -193,6 +194,22 @@ void AddSlideCommand(CLI::App* app, CommandLine* line) {
       ->capture_default_str();
   slide->add_flag("--json", line->arguments.json, "print one JSON object");
 }
+void AddMaterialCommand(CLI::App* app, CommandLine* line) {
+  HardnessArguments& hardness = line->arguments.hardness;
+  CLI::App* material = line->material = app->add_subcommand(
+      "material",
+      "Young's modulus from a Shore hardness (Gent's relation; Shore 00 through the 00/A "
+      "comparison table), with its validity range (docs/materials.md)");
+  auto* shore_a = material->add_option("--shore-a", hardness.shore_a, "Shore A hardness, 20 to 90");
+  auto* shore_00 =
+      material->add_option("--shore-00", hardness.shore_00, "Shore 00 hardness, 70 to 98");
+  shore_a->excludes(shore_00);
+  shore_00->excludes(shore_a);
+  material->add_option("--poisson", hardness.poisson,
+                       "Poisson's ratio nu, in (-1, 0.5): also print the shear modulus");
+  material->add_flag("--json", line->arguments.json, "print one JSON object");
+}
+
 ParseOutcome Failure(const std::string& message) {
   ParseOutcome outcome;
   outcome.message = message;
@@ -212,6 +229,10 @@ std::string MissingBodyOption(const CommandLine& line) {
   const bool has_spacing = model.spacing != 0.0 || model.target_nodes != 0;
   if ((line.compression->parsed() || line.build->parsed()) && !has_spacing) {
     return "--spacing or --target-nodes is required";
+  }
+  if (line.material->parsed() && line.material->get_option("--shore-a")->count() == 0 &&
+      line.material->get_option("--shore-00")->count() == 0) {
+    return "material needs --shore-a S or --shore-00 S";
   }
   if (line.compression->parsed() && line.size.empty() && model.mesh.empty()) {
     return "compression needs --size LX LY LZ or --mesh FILE";
@@ -268,6 +289,12 @@ LabArguments ParsedArguments(CommandLine* line) {
     arguments.slide.size = Eigen::Vector3d(size[0], size[1], size[2]);
     return arguments;
   }
+  if (line->material->parsed()) {
+    arguments.command = LabCommand::kMaterial;
+    arguments.hardness.from_shore_00 = line->material->get_option("--shore-00")->count() > 0;
+    arguments.hardness.has_poisson = line->material->get_option("--poisson")->count() > 0;
+    return arguments;
+  }
   if (line->compression->parsed()) {
     arguments.command = LabCommand::kCompression;
   } else if (line->build->parsed()) {
@@ -310,11 +337,12 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   AddSlideCommand(&app, &line);
   AddSphereCommands(&app, &line);
   AddGripCommand(&app, &line);
+  AddMaterialCommand(&app, &line);
 
   if (IsUnknownCommand(argv)) {
     return Failure("unknown command '" + argv[1] +
                    "' (expected compression, deflection, poisson-sweep, build, slide, realtime, "
-                   "indent, fit or grip)");
+                   "indent, fit, grip or material)");
   }
   // CLI11 wants argv without the program name, in reverse order.
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());

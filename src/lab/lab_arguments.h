@@ -40,7 +40,8 @@ enum class LabCommand {
   kRealtime,
   kIndent,
   kFit,
-  kGrip
+  kGrip,
+  kMaterial
 };
 
 /// `msm_lab slide`: a box of nodes sliding to a stop on the ground (thesis 6.4).
@@ -87,6 +88,15 @@ struct GripArguments {
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
 };
 
+/// `msm_lab material`: Young's modulus from a datasheet's Shore hardness (exactly one of them).
+struct HardnessArguments {
+  double shore_a = 0.0;
+  double shore_00 = 0.0;
+  bool from_shore_00 = false;  ///< --shore-00 was given (else --shore-a)
+  double poisson = 0.0;
+  bool has_poisson = false;  ///< --poisson was given: also print the shear modulus
+};
+
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
@@ -100,6 +110,7 @@ struct LabArguments {
   ContactArguments contact;
   FitArguments fit;
   GripArguments grip;
+  HardnessArguments hardness;
   bool json = false;
 };
 

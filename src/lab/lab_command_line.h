@@ -40,6 +40,7 @@ struct CommandLine {
   CLI::App* indent = nullptr;
   CLI::App* fit = nullptr;
   CLI::App* grip = nullptr;
+  CLI::App* material = nullptr;
 };
 
 /// Options describing the model, in the order --help lists them.

@@ -11,6 +11,7 @@
 
 #include "lab_dynamics_commands.h"
 #include "lab_fit_command.h"
+#include "lab_material_command.h"
 #include "lab_model.h"
 #include "lab_report.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
@@ -341,6 +342,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunFit(arguments, out, err);
     case LabCommand::kGrip:
       return RunGrip(arguments, out);
+    case LabCommand::kMaterial:
+      return RunMaterial(arguments, out);
   }
   return 1;
 }

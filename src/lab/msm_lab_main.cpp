@@ -1,5 +1,6 @@
 // msm_lab: command-line virtual materials lab (see README "msm_lab").
-// Exit codes: 0 success, 1 the experiment failed, 2 bad arguments.
+// Exit codes: 0 success, 1 the experiment failed (or a hardness outside its conversion's range),
+// 2 bad arguments.
 #include <exception>
 #include <iostream>
 #include <stdexcept>
