@@ -1,11 +1,13 @@
 #include "simulation_config.h"
 
 #include <set>
+#include <stdexcept>
 #include <string>
 
 #include <ros/package.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "msm_sim/material/shore_hardness.h"
 #include "parameter_tree.h"
 
 namespace msm_sim::ros_interface {
@@ -53,6 +55,26 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
   return config;
 }
 
+// shore_a or shore_00 instead of youngs: E by the core's conversion (docs/materials.md). At most
+// one of the three; a reading outside the conversion's range fails naming it and the range.
+void ReadHardness(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
+  const bool has_a = Has(object, "shore_a"), has_00 = Has(object, "shore_00");
+  if (!has_a && !has_00) return;
+  const std::string key = has_a ? "shore_a" : "shore_00";
+  if ((has_a && has_00) || Has(object, "youngs")) {
+    Fail(path + "/" + key, "object '" + config->name +
+                               "': give one of youngs (Pa), shore_a and shore_00, not several");
+  }
+  const double reading = Number(object, key, 0.0, path);
+  try {
+    config->youngs =
+        has_a ? core::YoungsFromShoreA(reading).youngs : core::YoungsFromShore00(reading).youngs;
+  } catch (const std::out_of_range& error) {
+    Fail(path + "/" + key,
+         "object '" + config->name + "': " + error.what() + "; give youngs (Pa) instead");
+  }
+}
+
 void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path,
                   ObjectConfig* config) {
   config->poisson = 0.25;
@@ -71,9 +93,12 @@ void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string
   }
   // Explicit values override the named material.
   if (Has(object, "youngs")) config->youngs = Positive(object, "youngs", 0.0, path);
+  ReadHardness(object, path, config);
   if (Has(object, "poisson")) config->poisson = Number(object, "poisson", 0.25, path);
   if (Has(object, "density")) config->density = Positive(object, "density", 0.0, path);
-  if (!(config->youngs > 0.0)) Fail(path + "/youngs", "missing (or give material)");
+  if (!(config->youngs > 0.0)) {
+    Fail(path + "/youngs", "missing (or give material, shore_a or shore_00)");
+  }
   if (!(config->density > 0.0)) Fail(path + "/density", "missing (or give material)");
   if (!(config->poisson > -1.0 && config->poisson < 0.5)) {
     Fail(path + "/poisson", "must lie in (-1, 0.5), got " + std::to_string(config->poisson));

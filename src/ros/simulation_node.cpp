@@ -1,6 +1,10 @@
 #include "simulation_node.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
+
+#include "msm_sim/material/shore_hardness.h"
 
 namespace msm_sim::ros_interface {
 
@@ -181,12 +185,34 @@ bool SimulationNode::OnResume(std_srvs::Trigger::Request&, std_srvs::Trigger::Re
   return true;
 }
 
+namespace {
+
+// E from the request: youngs, or a Shore hardness converted by the core (0 = unused). Returns
+// the reason when it cannot be had (several given, a reading outside its conversion's range).
+std::string RequestedYoungs(const msm_sim::SetMaterial::Request& request, double* youngs) {
+  *youngs = request.youngs;
+  const int given = (request.youngs != 0.0) + (request.shore_a != 0.0) + (request.shore_00 != 0.0);
+  if (given > 1) return "give one of youngs (Pa), shore_a and shore_00 (the others 0), not several";
+  try {
+    if (request.shore_a != 0.0) *youngs = core::YoungsFromShoreA(request.shore_a).youngs;
+    if (request.shore_00 != 0.0) *youngs = core::YoungsFromShore00(request.shore_00).youngs;
+  } catch (const std::out_of_range& error) {
+    return std::string(error.what()) + "; give youngs (Pa) instead";
+  }
+  return {};
+}
+
+}  // namespace
+
 bool SimulationNode::OnSetMaterial(msm_sim::SetMaterial::Request& request,
                                    msm_sim::SetMaterial::Response& response) {
   std::string described;
-  const std::string problem =
-      simulation_->SetMaterial(request.object, request.youngs, request.poisson, request.density,
-                               request.damping, request.friction, &described);
+  double youngs = 0.0;
+  std::string problem = RequestedYoungs(request, &youngs);
+  if (problem.empty()) {
+    problem = simulation_->SetMaterial(request.object, youngs, request.poisson, request.density,
+                                       request.damping, request.friction, &described);
+  }
   response.success = problem.empty();
   response.message =
       problem.empty() ? "'" + request.object + "' recalibrated: " + described : problem;

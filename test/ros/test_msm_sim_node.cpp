@@ -359,6 +359,24 @@ TEST(ResetAndMaterial, ResetRestoresRestShapeAndHalfTheModulusDoublesTheDeflecti
   EXPECT_FALSE(material.response.success);
   EXPECT_NE(material.response.message.find("Poisson"), std::string::npos)
       << material.response.message;
+  // A Shore hardness instead of youngs (docs/materials.md): converted, or refused with a reason.
+  material.request.poisson = 0.3;
+  material.request.youngs = 0.0;
+  material.request.shore_00 = 90.0;  // Shore A 50: Gent's E = 2.456 MPa
+  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
+  EXPECT_TRUE(material.response.success) << material.response.message;
+  EXPECT_NE(material.response.message.find("2.45"), std::string::npos) << material.response.message;
+  material.request.shore_a = 50.0;
+  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
+  EXPECT_FALSE(material.response.success);
+  EXPECT_NE(material.response.message.find("not several"), std::string::npos)
+      << material.response.message;
+  material.request.shore_00 = 0.0;
+  material.request.shore_a = 95.0;
+  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
+  EXPECT_FALSE(material.response.success);
+  EXPECT_NE(material.response.message.find("[20, 90]"), std::string::npos)
+      << material.response.message;
 }
 
 // 6. With use_sim_time, stepping follows /clock: no steps while the clock is stopped.
@@ -458,7 +476,42 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   scene.deleteParam("");
 }
 
+// shore_a or shore_00 instead of youngs: E from the core's conversion; outside its range or
+// beside youngs, one ConfigError naming the parameter, the object and what to give instead.
+TEST(ObjectConfig, ShoreHardnessGivesTheModulus) {
+  ros::NodeHandle scene("/shore_scene");
+  auto load = [&](const std::string& key, double reading) {
+    scene.deleteParam("");
+    XmlRpc::XmlRpcValue object;
+    object["name"] = std::string("pad");
+    object["shape"]["type"] = std::string("sphere");
+    object["shape"]["radius"] = 0.05;
+    object["spacing"] = 0.025;
+    object[key] = reading;
+    object["poisson"] = 0.45;
+    object["density"] = 1100.0;
+    XmlRpc::XmlRpcValue objects;
+    objects[0] = object;
+    scene.setParam("objects", objects);
+    return msm_sim::ros_interface::LoadSimulationConfig(scene);
+  };
+  EXPECT_NEAR(load("shore_00", 90.0).objects[0].youngs, 2.456e6, 2e3);  // = Shore A 50
+  EXPECT_NEAR(load("shore_a", 30.0).objects[0].youngs, 1.142e6, 1e3);
+  try {
+    load("shore_a", 10.0);
+    ADD_FAILURE() << "shore_a 10 was accepted";
+  } catch (const msm_sim::ros_interface::ConfigError& e) {
+    const std::string message = e.what();
+    for (const char* text : {"~objects[0]/shore_a", "object 'pad'", "[20, 90]", "give youngs"}) {
+      EXPECT_NE(message.find(text), std::string::npos) << message;
+    }
+  }
+  scene.deleteParam("");
+}
+
 TEST(BadConfig, NamesTheParameter) {
+  ExpectConfigError("shore_a", 50.0, "not several");  // beside the scene's youngs
+  ExpectConfigError("shore_00", 20.0, "~objects[0]/shore_00");
   ExpectConfigError("poisson", 0.7, "~objects[0]/poisson");
   ExpectConfigError("model", std::string("foam"), "~objects[0]/model");
   ExpectConfigError("youngs", std::string("soft"), "~objects[0]/youngs");
