@@ -102,6 +102,26 @@ TEST(Replay, FingertipWrenchMatchesTheStoredExpectation) {
   EXPECT_LE(worst, 0.02 * peak);
 }
 
+// The materials entry `msm_lab fit --yaml` writes (test/data/fitted_material.yaml, that
+// command's output) is accepted by a scene that names it: the block takes its density.
+TEST(Replay, AFittedMaterialEntryRunsInAScene) {
+  std::ifstream in(kPackage + "/test/ros/replay_scene.yaml");
+  std::string scene((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string named = "material: silicone_ecoflex_00_30";
+  ASSERT_NE(scene.find(named), std::string::npos);
+  scene.replace(scene.find(named), named.size(), "material: pad_silicone");
+  const std::string path = ::testing::TempDir() + "fitted_scene.yaml";
+  std::ofstream(path) << scene;
+  const ReplayRun run =
+      Replay("--quiet --config " + path + " --config " + kPackage + "/config/demo.yaml" +
+             " --materials " + kData + "/fitted_material.yaml --in " + kData +
+             "/demo_input.bag --out " + ::testing::TempDir() + "fitted.bag");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  // 0.12 x 0.08 x 0.05 m at the entry's 1080 kg/m^3 (the library's Ecoflex is 1070).
+  EXPECT_NE(run.out.find("0.5184 kg"), std::string::npos) << run.out;  // ROS_INFO: stdout
+  std::remove(path.c_str());
+}
+
 TEST(Replay, BadInputsGiveOneErrorLine) {
   const std::string out = ::testing::TempDir() + "replay_bad.bag";
   // A bag without any topic the replay reads.
