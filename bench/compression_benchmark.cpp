@@ -52,7 +52,7 @@ BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 // (beta = 1e-4 s, as in a dynamics step) at random velocities when `damped`.
 void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state,
                           SpringKernels kernels = SpringKernels::kAuto, bool damped = false) {
-  ForceEvaluator evaluator(model, passes, kernels);
+  ForceEvaluator evaluator(model, passes, kernels, 64);  // threads: as OpenMP allows
   const Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
   const Eigen::Matrix3Xd velocities = 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_nodes());
   Eigen::Matrix3Xd forces(3, model.num_nodes());
@@ -91,7 +91,7 @@ void BM_SpringKernels12k(benchmark::State& state, double poisson, SpringKernels 
 // compression, run kernels against per-spring loops.
 void BM_StiffnessProduct12k(benchmark::State& state, double poisson, SpringKernels kernels) {
   const Model model = Block12k(poisson);
-  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels, 64);
   evaluator.Linearize(model.rest_positions() * 0.99, GeometricStiffness::kDropCompression);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Random(3, model.num_nodes());
   Eigen::Matrix3Xd product;

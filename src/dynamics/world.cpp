@@ -21,12 +21,12 @@ constexpr double kSelfContactRestDistance = 2.5;
 }  // namespace
 
 World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
-                  const BodyOptions& body_options, double time_step_safety)
+                  const BodyOptions& body_options, const WorldOptions& world_options)
     : name(body_name),
       model(std::move(body_model)),
       options(body_options),
       state(State::AtRest(*model)),
-      evaluator(*model, body_options.dispersion),
+      evaluator(*model, body_options.dispersion, SpringKernels::kAuto, world_options.threads),
       border(FindBorderNodes(*model)),
       constrained(model->num_nodes(), 0),
       inverse_masses(model->masses().cwiseInverse()),
@@ -38,7 +38,7 @@ World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> bod
   self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
   StableTimeStepOptions step;
   step.damping_beta = body_options.damping_beta;
-  step.safety = time_step_safety;
+  step.safety = world_options.time_step_safety;
   stable_step = StableTimeStep(*model, step);
 }
 
@@ -64,6 +64,7 @@ World::World(const WorldOptions& options) : options_(options) {
   Require(options.implicit_tolerance > 0.0 && options.implicit_tolerance < 1.0,
           "implicit tolerance must lie in (0, 1)");
   Require(options.implicit_max_iterations >= 1, "implicit max iterations must be >= 1");
+  Require(options.threads >= 1, "threads must be >= 1");
   Require(options.penetration_recovery_time > 0.0 && Finite(options.penetration_recovery_time),
           "penetration recovery time must be finite and > 0");
   Require(options.penetration_max_speed >= 0.0 && Finite(options.penetration_max_speed),
@@ -83,7 +84,7 @@ int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
                    const BodyOptions& options) {
   Require(model != nullptr, "body '" + name + "' has no model");
   ValidateBodyOptions(name, options);
-  Body body(name, model, options, options_.time_step_safety);
+  Body body(name, model, options, options_);
   RequireIntegrable(body);
   body.pair_friction.assign(colliders_.size(), -1.0);
   body.wrenches.assign(colliders_.size(), ContactWrench{});
@@ -186,7 +187,7 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
   Require(model->num_nodes() == old.model->num_nodes(),
           "the new model has " + std::to_string(model->num_nodes()) + " nodes, the body " +
               std::to_string(old.model->num_nodes()));
-  Body body(old.name, model, options, options_.time_step_safety);
+  Body body(old.name, model, options, options_);
   RequireIntegrable(body);
   body.state = old.state;
   body.groups = old.groups;

@@ -32,6 +32,7 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   world_options.gravity = Eigen::Vector3d(0.0, 0.0, -options.gravity);
   world_options.integrator = options.integrator;
   world_options.implicit_max_substep = options.step;
+  world_options.threads = options.threads;
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;

@@ -65,6 +65,7 @@ struct ContactArguments {
   /// indent: > 0, also start the sphere this far inside the block and hold it (m)
   double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
+  int threads = 1;                      ///< realtime: WorldOptions::threads
 };
 
 /// `msm_lab fit`: the Young's modulus that reproduces a measured indentation curve.

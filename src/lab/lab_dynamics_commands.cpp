@@ -50,6 +50,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.damping_beta = contact.damping;
   options.dispersion = Dispersion(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
+  options.threads = contact.threads;
   const auto model = LabBlock(arguments.model);
   const core::RealtimeExperimentResult result = core::RunRealtimeExperiment(model, options);
   if (arguments.json) {

@@ -85,6 +85,11 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
   realtime->add_option("--seconds", contact.seconds, "simulated time (s)")
       ->capture_default_str()
       ->check(Finite(false));
+  realtime
+      ->add_option("--threads", contact.threads,
+                   "the most threads the spring passes use (blocks of 50,000 springs or more)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
   realtime->add_flag("--json", line->arguments.json, "print one JSON object");
 
   CLI::App* indent = line->indent = app->add_subcommand(

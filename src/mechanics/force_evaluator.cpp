@@ -14,8 +14,9 @@
 
 namespace msm_sim::core {
 
-ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, SpringKernels kernels)
-    : model_(&model), passes_(passes) {
+ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, SpringKernels kernels,
+                               int max_threads)
+    : model_(&model), passes_(passes), max_threads_(std::max(1, max_threads)) {
   const int n = model.num_nodes();
   const int num_springs = model.num_springs();
   const double q = model.dispersion_fraction();
@@ -131,8 +132,9 @@ void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&&
 
 template <typename Body>
 void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_size, Body&& body) {
-  const int threads =
-      model_->num_springs() >= kParallelSprings ? std::min(omp_get_max_threads(), kMaxThreads) : 1;
+  const int threads = model_->num_springs() >= kParallelSprings
+                          ? std::max(1, std::min(omp_get_max_threads(), max_threads_))
+                          : 1;
   if (threads <= 1) {
     body(0, count, target);
     return;

@@ -21,6 +21,7 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   options.gravity = config.gravity;
   options.time_step_safety = config.time_step_safety;
   options.integrator = config.integrator;
+  options.threads = config.threads;
   options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
   return options;
 }

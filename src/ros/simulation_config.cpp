@@ -1,5 +1,6 @@
 #include "simulation_config.h"
 
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -48,6 +49,11 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
     Fail(path + "/time_step_safety", "must be in (0, 1], a fraction of the stability limit; got " +
                                          std::to_string(config.time_step_safety));
   }
+  const double threads = Positive(world, "threads", 1.0, path);
+  if (threads != std::floor(threads) || threads > 64.0) {
+    Fail(path + "/threads", "must be a whole number from 1 to 64; got " + std::to_string(threads));
+  }
+  config.threads = static_cast<int>(threads);
   const std::string integrator = Text(world, "integrator", "explicit", path);
   if (!core::ParseIntegrator(integrator, &config.integrator)) {
     FailNotOneOf(integrator, {"explicit", "implicit"}, path + "/integrator");

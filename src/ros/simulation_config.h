@@ -76,6 +76,8 @@ struct WorldConfig {
   /// explicit (position Verlet in stable substeps) or implicit (one linearly implicit substep of
   /// up to 1 ms, docs/physics.md §7.1).
   core::Integrator integrator = core::Integrator::kExplicit;
+  /// The most threads a body's spring passes use (bodies of 50,000 springs or more).
+  int threads = 1;
 };
 
 struct MarkerConfig {

@@ -233,8 +233,9 @@ TEST(ExtendedMsm, DispersionRatioRoundTripsAndMatchesLimits) {
 namespace msm_sim::core {
 namespace {
 
-// Large models evaluate their springs on two threads, each scattering into its own buffer: the
-// forces and tensions must equal the one-thread evaluation up to rounding, and repeat exactly.
+// Large models may evaluate their springs on two threads, each scattering into its own buffer:
+// the forces and tensions must equal the one-thread evaluation up to rounding, and repeat
+// exactly; by default an evaluator uses one thread.
 TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.2, 0.15);
@@ -245,9 +246,11 @@ TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   for (int i = 0; i < x.cols(); ++i)
     x.col(i) += 1e-4 * Eigen::Vector3d(std::sin(i), std::cos(3.0 * i), std::sin(7.0 * i));
   const Eigen::Matrix3Xd v = 0.01 * x;
-  auto evaluate = [&](int threads) {
-    omp_set_num_threads(threads);
-    ForceEvaluator evaluator(model);
+  omp_set_num_threads(2);  // OpenMP allows two; each evaluator's own limit decides
+  auto evaluate = [&](int max_threads) {
+    ForceEvaluator evaluator = max_threads > 0 ? ForceEvaluator(model, DispersionPasses::kTwoPass,
+                                                                SpringKernels::kAuto, max_threads)
+                                               : ForceEvaluator(model);
     Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
     evaluator.AccumulateForces(x, v, 1e-4, &f);
     return std::make_pair(f, Eigen::VectorXd(evaluator.total_tensions()));
@@ -255,6 +258,7 @@ TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   const auto serial = evaluate(1);
   const auto parallel = evaluate(2);
   const auto again = evaluate(2);
+  const auto by_default = evaluate(0);  // WorldOptions::threads' default: one thread
   omp_set_num_threads(omp_get_num_procs());
   EXPECT_LE((parallel.first - serial.first).cwiseAbs().maxCoeff(),
             1e-12 * serial.first.cwiseAbs().maxCoeff());
@@ -262,6 +266,7 @@ TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   EXPECT_LE((parallel.second - serial.second).cwiseAbs().maxCoeff(),
             1e-12 * serial.second.cwiseAbs().maxCoeff());
   EXPECT_EQ(again.first, parallel.first);
+  EXPECT_EQ(by_default.first, serial.first);  // the same order of sums, bit for bit
 }
 
 }  // namespace

@@ -89,6 +89,10 @@ struct WorldOptions {
   double penetration_recovery_time = 0.05;
   /// ... at no more than this separation speed (m/s, >= 0; 0 turns the recovery off).
   double penetration_max_speed = 0.1;
+  /// The most threads (>= 1) each body's spring passes may use, for bodies of 50,000 springs
+  /// or more (ForceEvaluator: one by default, because two slowed a step fivefold when other
+  /// processes kept the cores busy); results are deterministic for a given thread count.
+  int threads = 1;
 };
 
 /// Energies of one body (J). Gravitational energy is -m g . x (zero at the world origin). The
@@ -253,9 +257,9 @@ class World {
   };
   struct Body {
     /// At rest, with everything derived from the model: border, stable step (for the World's
-    /// safety factor), the self-contact distance.
+    /// safety factor), the self-contact distance; the evaluator gets the World's thread count.
     Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
-         const BodyOptions& body_options, double time_step_safety);
+         const BodyOptions& body_options, const WorldOptions& world_options);
     std::string name;
     std::shared_ptr<const Model> model;
     BodyOptions options;

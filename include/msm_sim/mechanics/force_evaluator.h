@@ -56,8 +56,13 @@ enum class GeometricStiffness {
 /// model.num_nodes() columns and no spring has zero length.
 class ForceEvaluator {
  public:
+  /// `max_threads` (>= 1): the most threads the spring passes of a model with at least 50,000
+  /// springs may use (OpenMP, and no more than omp_get_max_threads()); smaller models use one.
+  /// One by default: on the 2-core development machine two threads made a 12k-node step only
+  /// 1.2-1.4x faster when idle, and 5x slower when other processes kept the cores busy (each
+  /// fork-join waits for a preempted thread), which is where a robot's simulator runs.
   explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
-                          SpringKernels kernels = SpringKernels::kAuto);
+                          SpringKernels kernels = SpringKernels::kAuto, int max_threads = 1);
 
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
@@ -104,11 +109,9 @@ class ForceEvaluator {
   };
 
  private:
-  // Models with at least this many springs evaluate them on up to kMaxThreads threads (OpenMP):
-  // the passes are memory-bound gathers and scatters, which two cores share well; small models
-  // would lose more to the threads' start than they gain.
+  // Models with at least this many springs evaluate them on up to max_threads_ threads
+  // (OpenMP); small models would lose more to the threads' start than they gain.
   static constexpr int kParallelSprings = 50'000;
-  static constexpr int kMaxThreads = 2;
   /// Runs body(begin, end, scatter_target) over the springs, in fixed per-thread shares for
   /// large models, each thread scattering into its own copy of `target` (summed afterwards).
   template <typename Body>
@@ -145,6 +148,7 @@ class ForceEvaluator {
 
   const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
   DispersionPasses passes_;
+  int max_threads_ = 1;
   // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 = v k L0 at each end,
   // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
   Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
