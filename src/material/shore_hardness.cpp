@@ -74,8 +74,8 @@ ShoreRange Shore00Range() {
 
 double GentYoungsFromShoreA(double shore_a) {
   RequireWithin(shore_a, GentShoreARange(), "A",
-                "where Gent's relation is used (ASTM D2240's reliable readings; below A 20 give "
-                "the Shore 00 reading, above A 90 the material is too hard for this relation)");
+                "where Gent's relation is used (ASTM D2240's reliable readings; outside it no "
+                "hardness relation here applies: give youngs)");
   const double force = kGentMegapascalScale * (kGentForceOffset + kGentForcePerPoint * shore_a);
   const double depth = kGentGeometry * (kGentFullDepth - kGentDepthPerPoint * shore_a);
   return force / depth * 1e6;  // MPa to Pa
