@@ -2,7 +2,9 @@
 
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -29,6 +31,29 @@ void Validate(const BodyRecipe& recipe) {
   }
   if (recipe.target_nodes < 0) throw std::invalid_argument("target_nodes must be >= 0");
   if (!(recipe.target_volume >= 0.0)) throw std::invalid_argument("target_volume must be >= 0");
+  if (recipe.target_nodes > kMaxBodyNodes) {
+    throw std::invalid_argument("target_nodes " + std::to_string(recipe.target_nodes) +
+                                " is more than the limit of " + std::to_string(kMaxBodyNodes) +
+                                " nodes");
+  }
+}
+
+// Refuses a spacing that would fill the region's bounding box with more than kMaxBodyNodes
+// lattice sites, before a builder allocates them. Non-positive spacings are the builders' to
+// report.
+void CheckSiteCount(const BodyRecipe& recipe, double spacing) {
+  if (!(spacing > 0.0) || !std::isfinite(spacing)) return;
+  const Eigen::Vector3d extent =
+      recipe.solid ? Eigen::Vector3d(recipe.solid->max_corner() - recipe.solid->min_corner())
+                   : recipe.box_size;
+  const double sites = (extent.array() / spacing + 1.0).prod();
+  if (sites > kMaxBodyNodes) {
+    std::ostringstream text;
+    text << "spacing " << spacing << " m gives about " << sites << " lattice sites in a "
+         << extent.x() << " x " << extent.y() << " x " << extent.z()
+         << " m region, more than the limit of " << kMaxBodyNodes << " nodes; raise spacing";
+    throw std::invalid_argument(text.str());
+  }
 }
 
 // A target node count fixes the spacing: N = V / a^3.
@@ -135,6 +160,7 @@ const std::vector<std::string>& LatticeKindNames() {
 Model BuildModel(const BodyRecipe& recipe) {
   Validate(recipe);
   const double spacing = Spacing(recipe);
+  if (recipe.target_nodes == 0) CheckSiteCount(recipe, spacing);
   if (recipe.solid) return BuildInSolid(recipe, spacing);
   if (!recipe.centre_box) return BuildInBox(recipe, spacing);
   Eigen::Isometry3d centre = Eigen::Isometry3d::Identity();

@@ -44,6 +44,21 @@ std::shared_ptr<const core::Model> PlacedModel(const ObjectConfig& config,
       core::BuildModel(ObjectRecipe(config, material, std::move(solid))), config.pose));
 }
 
+// The object's clamps; a clamp that holds no node is refused at its own parameter.
+void AddClamps(const ObjectConfig& config, const std::string& path, BuiltObject* object) {
+  for (std::size_t c = 0; c < config.clamps.size(); ++c) {
+    const ClampConfig& clamp = config.clamps[c];
+    std::vector<core::NodeIndex> nodes =
+        clamp.is_box ? core::NodesInBox(*object->model, clamp.min, clamp.max)
+                     : core::NodesInHalfSpace(*object->model, clamp.point, clamp.normal);
+    if (nodes.empty()) {
+      throw ConfigError("parameter " + path + "/clamps[" + std::to_string(c) + "]: clamp '" +
+                        clamp.name + "' holds no node of object '" + config.name + "'");
+    }
+    object->clamps.emplace_back(clamp.name, std::move(nodes));
+  }
+}
+
 }  // namespace
 
 std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
@@ -67,16 +82,10 @@ BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {
       object.surface = solid->surface();
     }
     object.surface.vertices = config.pose * object.surface.vertices;
-    for (const ClampConfig& clamp : config.clamps) {
-      std::vector<core::NodeIndex> nodes =
-          clamp.is_box ? core::NodesInBox(*object.model, clamp.min, clamp.max)
-                       : core::NodesInHalfSpace(*object.model, clamp.point, clamp.normal);
-      if (nodes.empty()) {
-        throw std::invalid_argument("clamp '" + clamp.name + "' holds no node of the object");
-      }
-      object.clamps.emplace_back(clamp.name, std::move(nodes));
-    }
+    AddClamps(config, path, &object);
     return object;
+  } catch (const ConfigError&) {
+    throw;
   } catch (const std::exception& e) {
     throw ConfigError("parameter " + path + " (object '" + config.name + "'): " + e.what());
   }

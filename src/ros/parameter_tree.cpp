@@ -93,6 +93,29 @@ void OneOf(const std::string& value, const std::set<std::string>& allowed,
   if (allowed.count(value) == 0) FailNotOneOf(value, allowed, parameter);
 }
 
+void KnownKeys(XmlRpcValue& value, const std::set<std::string>& known, const std::string& path) {
+  if (value.getType() != XmlRpcValue::TypeStruct) Fail(path, "expected a dictionary");
+  for (auto& [key, entry] : value) {
+    if (known.count(key) == 0) {
+      std::ostringstream list;
+      for (const std::string& k : known) list << (list.tellp() > 0 ? ", " : "") << k;
+      Fail(path + "/" + key, "unknown parameter (known here: " + list.str() + ")");
+    }
+  }
+}
+
+double Count(XmlRpcValue& parent, const std::string& key, double fallback, double max,
+             const std::string& path) {
+  const double value = NonNegative(parent, key, fallback, path);
+  if (value != std::floor(value)) Fail(path + "/" + key, "must be a whole number");
+  if (value > max) {
+    std::ostringstream text;
+    text << "must be at most " << max << " (got " << value << ")";
+    Fail(path + "/" + key, text.str());
+  }
+  return value;
+}
+
 bool Get(XmlRpcValue& parent, const std::string& key, XmlRpcValue* value) {
   if (!Has(parent, key)) return false;
   *value = parent[key];

@@ -40,6 +40,15 @@ bool Flag(XmlRpcValue& parent, const std::string& key, bool fallback, const std:
 Eigen::Vector3d Vector(XmlRpcValue& parent, const std::string& key, const Eigen::Vector3d& fallback,
                        const std::string& path);
 
+/// Fails at `path` unless `value` is a dictionary whose keys are all in `known`: a misspelt
+/// key would otherwise be ignored silently and its default used.
+void KnownKeys(XmlRpcValue& value, const std::set<std::string>& known, const std::string& path);
+
+/// parent[key] as a whole number in [0, max] (fallback when missing); integers, or doubles and
+/// text that read as one. Fails before any cast for larger, negative or fractional values.
+double Count(XmlRpcValue& parent, const std::string& key, double fallback, double max,
+             const std::string& path);
+
 /// Fails at `parameter`: `value` is none of `allowed` (listed in alphabetical order).
 [[noreturn]] void FailNotOneOf(const std::string& value, const std::set<std::string>& allowed,
                                const std::string& parameter);

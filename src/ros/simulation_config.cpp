@@ -1,6 +1,7 @@
 #include "simulation_config.h"
 
 #include <cmath>
+#include <fstream>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,7 @@ using param::FailNotOneOf;
 using param::Flag;
 using param::Get;
 using param::Has;
+using param::KnownKeys;
 using param::NonNegative;
 using param::Number;
 using param::OneOf;
@@ -28,14 +30,36 @@ using param::Positive;
 using param::Text;
 using param::Vector;
 
+// The keys each dictionary of the configuration takes (README "msm_sim_node").
+const std::set<std::string> kWorldKeys = {"frame",     "gravity",          "ground",
+                                          "time_step", "publish_rate",     "real_time",
+                                          "max_force", "time_step_safety", "integrator"};
+const std::set<std::string> kObjectKeys = {
+    "name",      "shape",       "pose",     "model",       "spacing",     "target_nodes", "spring",
+    "antialias", "seed",        "material", "youngs",      "poisson",     "density",      "damping",
+    "friction",  "restitution", "clamps",   "visual_mesh", "visual_scale"};
+const std::set<std::string> kShapeKeys = {"type", "size", "radius", "length", "uri", "scale"};
+const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout", "links",
+                                          "link_friction"};
+const std::set<std::string> kMarkerKeys = {"colour_by_strain", "strain_range", "nodes", "springs"};
+// A random model's seed is read as a double: whole numbers above 2^53 are not all representable.
+constexpr double kMaxSeed = 9007199254740992.0;
+
+// A missing mesh file is the configuration's error, reported before any object is built.
+void RequireReadable(const std::string& file, const std::string& parameter) {
+  if (!std::ifstream(file)) Fail(parameter, "cannot read the file '" + file + "'");
+}
+
 WorldConfig ReadWorld(XmlRpcValue& world) {
   const std::string path = "~world";
+  KnownKeys(world, kWorldKeys, path);
   WorldConfig config;
   config.frame = Text(world, "frame", config.frame, path);
   if (config.frame.empty()) Fail(path + "/frame", "must not be empty");
   config.gravity = Vector(world, "gravity", config.gravity, path);
   if (Has(world, "ground")) {
     XmlRpcValue& ground = world["ground"];
+    KnownKeys(ground, {"enabled", "height", "friction"}, path + "/ground");
     config.ground = Flag(ground, "enabled", true, path + "/ground");
     config.ground_height = Number(ground, "height", 0.0, path + "/ground");
     config.ground_friction = NonNegative(ground, "friction", 0.5, path + "/ground");
@@ -111,10 +135,23 @@ void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string
   }
 }
 
+// A shape so large that its volume overflows would reach the builders as a degenerate solid.
+void RequireFiniteVolume(const core::BodyShape& shape, const std::string& path) {
+  const auto finite_cube = [](double length) { return std::isfinite(length * length * length); };
+  if (shape.kind == core::BodyShape::Kind::kBox && !finite_cube(shape.size.maxCoeff())) {
+    Fail(path + "/size", "too large: the volume overflows");
+  }
+  if (!finite_cube(shape.radius) || !finite_cube(shape.length)) {
+    Fail(path + (finite_cube(shape.radius) ? "/length" : "/radius"),
+         "too large: the volume overflows");
+  }
+}
+
 core::BodyShape ReadShape(XmlRpcValue& object, const std::string& path) {
   if (!Has(object, "shape")) Fail(path + "/shape", "missing (box, sphere, cylinder or mesh)");
   XmlRpcValue& shape = object["shape"];
   const std::string shape_path = path + "/shape";
+  KnownKeys(shape, kShapeKeys, shape_path);
   const std::string type = Text(shape, "type", "", shape_path);
   OneOf(type, {"box", "sphere", "cylinder", "mesh"}, shape_path + "/type");
   core::BodyShape config;
@@ -132,8 +169,10 @@ core::BodyShape ReadShape(XmlRpcValue& object, const std::string& path) {
   } else {
     config.kind = core::BodyShape::Kind::kMesh;
     config.mesh_path = ResolveUri(Text(shape, "uri", "", shape_path), shape_path + "/uri");
+    RequireReadable(config.mesh_path, shape_path + "/uri");
     config.mesh_scale = Positive(shape, "scale", 1.0, shape_path);
   }
+  RequireFiniteVolume(config, shape_path);
   return config;
 }
 
@@ -162,6 +201,7 @@ Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (!Has(object, "pose")) return pose;
   XmlRpcValue& p = object["pose"];
+  KnownKeys(p, {"position", "rpy"}, path + "/pose");
   pose.translation() = Vector(p, "position", Eigen::Vector3d::Zero(), path + "/pose");
   const Eigen::Vector3d rpy = Vector(p, "rpy", Eigen::Vector3d::Zero(), path + "/pose");
   pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
@@ -172,18 +212,23 @@ Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
 }
 
 ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
+  KnownKeys(clamp, {"name", "box", "half_space"}, path);
   ClampConfig config;
   config.name = Text(clamp, "name", "", path);
   if (config.name.empty()) Fail(path + "/name", "missing");
   if (Has(clamp, "box")) {
     config.is_box = true;
+    KnownKeys(clamp["box"], {"min", "max"}, path + "/box");
     config.min = Vector(clamp["box"], "min", Eigen::Vector3d::Zero(), path + "/box");
     config.max = Vector(clamp["box"], "max", Eigen::Vector3d::Zero(), path + "/box");
     if ((config.max.array() < config.min.array()).any()) Fail(path + "/box", "max < min");
   } else if (Has(clamp, "half_space")) {
     config.is_box = false;
-    config.point = Vector(clamp["half_space"], "point", Eigen::Vector3d::Zero(), path);
-    config.normal = Vector(clamp["half_space"], "normal", Eigen::Vector3d::UnitZ(), path);
+    KnownKeys(clamp["half_space"], {"point", "normal"}, path + "/half_space");
+    config.point =
+        Vector(clamp["half_space"], "point", Eigen::Vector3d::Zero(), path + "/half_space");
+    config.normal =
+        Vector(clamp["half_space"], "normal", Eigen::Vector3d::UnitZ(), path + "/half_space");
     if (config.normal.norm() == 0.0) Fail(path + "/half_space/normal", "must not be zero");
   } else {
     Fail(path, "needs a box {min, max} or a half_space {point, normal}");
@@ -192,6 +237,7 @@ ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
 }
 
 ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path) {
+  KnownKeys(object, kObjectKeys, path);
   ObjectConfig config;
   config.name = Text(object, "name", "", path);
   if (config.name.empty()) Fail(path + "/name", "missing");
@@ -203,13 +249,14 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
     Fail(path + "/model", "baudet fills boxes only (shape type box)");
   }
   config.spacing = NonNegative(object, "spacing", 0.0, path);
-  config.target_nodes = static_cast<int>(NonNegative(object, "target_nodes", 0.0, path));
+  config.target_nodes =
+      static_cast<int>(param::Count(object, "target_nodes", 0.0, core::kMaxBodyNodes, path));
   if ((config.spacing > 0.0) == (config.target_nodes > 0)) {
     Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
   }
   config.spring = ReadSpringLaw(object, path);
   config.antialias = Flag(object, "antialias", true, path);
-  config.seed = static_cast<std::uint64_t>(NonNegative(object, "seed", 1.0, path));
+  config.seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
   ReadMaterial(object, materials, path, &config);
   config.damping = NonNegative(object, "damping", 2e-4, path);
   config.friction = NonNegative(object, "friction", config.friction, path);
@@ -227,6 +274,7 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   if (Has(object, "visual_mesh")) {
     config.visual_mesh_path =
         ResolveUri(Text(object, "visual_mesh", "", path), path + "/visual_mesh");
+    RequireReadable(config.visual_mesh_path, path + "/visual_mesh");
     config.visual_scale = Positive(object, "visual_scale", 1.0, path);
   }
   return config;
@@ -264,6 +312,7 @@ std::vector<WrenchInputConfig> ReadWrenchInputs(XmlRpcValue& inputs,
   std::vector<WrenchInputConfig> configs;
   for (int i = 0; i < inputs.size(); ++i) {
     const std::string path = "~wrench_inputs[" + std::to_string(i) + "]";
+    KnownKeys(inputs[i], {"topic", "object", "radius"}, path);
     WrenchInputConfig input;
     input.topic = Text(inputs[i], "topic", "", path);
     input.object = Text(inputs[i], "object", "", path);
@@ -277,7 +326,7 @@ std::vector<WrenchInputConfig> ReadWrenchInputs(XmlRpcValue& inputs,
 
 // ~robot: its presence enables the robot colliders.
 RobotConfig ReadRobot(XmlRpcValue& robot) {
-  if (robot.getType() != XmlRpcValue::TypeStruct) Fail("~robot", "expected a dictionary");
+  KnownKeys(robot, kRobotKeys, "~robot");
   RobotConfig r;
   r.enabled = true;
   r.description_param = Text(robot, "description_param", r.description_param, "~robot");
@@ -306,6 +355,7 @@ RobotConfig ReadRobot(XmlRpcValue& robot) {
 }
 
 MarkerConfig ReadMarkers(XmlRpcValue& markers) {
+  KnownKeys(markers, kMarkerKeys, "~markers");
   MarkerConfig config;
   config.colour_by_strain = Flag(markers, "colour_by_strain", true, "~markers");
   config.strain_range = Positive(markers, "strain_range", 0.2, "~markers");

@@ -342,5 +342,30 @@ TEST(BodyRecipe, PassesOnTheBuildersErrors) {
   EXPECT_THROW(BuildModel(crowded), std::runtime_error);
 }
 
+// Absurd node counts are refused from the recipe alone: a builder asked for 10^17 nodes would
+// exhaust memory (or take hours) instead of throwing.
+TEST(BodyRecipe, RefusesMoreNodesThanTheLimitBeforeBuilding) {
+  for (const LatticeKind kind : {LatticeKind::kCubic, LatticeKind::kRandom, LatticeKind::kBaudet}) {
+    for (const bool in_solid : {false, true}) {
+      if (in_solid && kind == LatticeKind::kBaudet) continue;  // Baudet fills boxes only
+      BodyRecipe recipe(kMaterial);
+      recipe.lattice = kind;
+      recipe.box_size = kBox;
+      if (in_solid) recipe.solid = BoxSolid(kBox);
+      recipe.spacing = 1e-6;
+      try {
+        BuildModel(recipe);
+        ADD_FAILURE() << LatticeKindName(kind) << " built 10^17 nodes";
+      } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("spacing 1e-06 m gives about 7.20005e+16"),
+                  std::string::npos)
+            << e.what();
+      }
+      recipe.target_nodes = kMaxBodyNodes + 1;
+      EXPECT_THROW(BuildModel(recipe), std::invalid_argument) << LatticeKindName(kind);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace msm_sim::core
