@@ -7,6 +7,8 @@
 
 #include <tf2/exceptions.h>
 
+#include "msm_sim/mechanics/stable_time_step.h"
+
 #include "conversions.h"
 #include "object_builder.h"
 
@@ -24,6 +26,29 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   options.threads = config.threads;
   options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
   return options;
+}
+
+// More explicit substeps per step than this would stall the node (a denormal density asked for
+// 10^150); a material needing them is refused.
+constexpr double kMaxSubstepsPerStep = 1000.0;
+
+// Empty if a step of the explicit integrator at `stable_step` (s) takes at most
+// kMaxSubstepsPerStep substeps (always with the implicit one); else why not.
+std::string SubstepProblem(const WorldConfig& world, double stable_step) {
+  if (world.integrator != core::Integrator::kExplicit) return {};
+  // A lattice always has springs: an infinite (or NaN) stable step means the stiffness-to-mass
+  // ratio overflowed.
+  const double substeps = world.time_step / stable_step;
+  if (std::isfinite(stable_step) && substeps <= kMaxSubstepsPerStep) return {};
+  std::ostringstream problem;
+  if (!std::isfinite(stable_step)) {
+    return "the material's stiffness-to-mass ratio overflows (no finite stable step; too stiff "
+           "or too light)";
+  }
+  problem << "the material gives a stable step of " << stable_step << " s, " << substeps
+          << " substeps per ~world/time_step, more than " << kMaxSubstepsPerStep
+          << " (too stiff or too light for this lattice)";
+  return problem.str();
 }
 
 }  // namespace
@@ -70,6 +95,10 @@ void Simulation::AddObject(std::size_t index) {
     throw ConfigError("parameter " + path + "/visual_mesh: " + e.what());
   }
   object.strain = core::SurfaceStrain(object.skin->rest_surface());
+  const std::string substeps = SubstepProblem(config_.world, world_.stable_time_step());
+  if (!substeps.empty()) {
+    throw ConfigError("parameter " + path + " (object '" + object_config.name + "'): " + substeps);
+  }
   ROS_INFO("msm_sim: object '%s': %d nodes, %d springs, %.4g kg, %d clamps, stable step %.3g s",
            object_config.name.c_str(), built.model->num_nodes(), built.model->num_springs(),
            built.model->masses().sum(), static_cast<int>(built.clamps.size()),
@@ -118,6 +147,16 @@ std::string Simulation::SetWrench(std::size_t index, const geometry_msgs::Wrench
     reason << "|force| = " << force.norm() << " N exceeds ~world/max_force (absurd magnitude)";
     return reason.str();
   }
+  // The torque acts as forces of about |torque| / radius on the input's nodes: bounded like forces
+  // (a huge finite torque overflowed the clamps' reactions to Inf and NaN).
+  const double max_torque = config_.world.max_force * input.config.radius;
+  if (torque.norm() > max_torque) {
+    std::ostringstream reason;
+    reason << "|torque| = " << torque.norm()
+           << " N m exceeds ~world/max_force x radius = " << max_torque
+           << " N m (absurd magnitude)";
+    return reason.str();
+  }
   Eigen::Isometry3d to_world;
   std::string error;
   if (!LookUp(tf, message.header.frame_id, message.header.stamp, &to_world, &error)) {
@@ -147,6 +186,8 @@ std::string Simulation::SetMaterial(const std::string& name, double youngs, doub
   const int index = FindObject(name);
   if (index < 0) return "unknown object '" + name + "'";
   Object& object = objects_[index];
+  const std::string material_problem = MaterialProblem(youngs, poisson, density);
+  if (!material_problem.empty()) return material_problem;
   try {
     const core::Material material = core::Material::FromYoungsPoisson(youngs, poisson, density);
     if (!(damping >= 0.0) || !(friction >= 0.0) || !std::isfinite(damping) ||
@@ -159,7 +200,14 @@ std::string Simulation::SetMaterial(const std::string& name, double youngs, doub
     config.density = density;
     config.damping = damping;
     config.friction = friction;
-    world_.ReplaceModel(object.body, BuildObjectModel(config, material), BodyOptionsOf(config));
+    const std::shared_ptr<const core::Model> model = BuildObjectModel(config, material);
+    core::StableTimeStepOptions stability;
+    stability.damping_beta = damping;
+    stability.safety = config_.world.time_step_safety;
+    const std::string substeps =
+        SubstepProblem(config_.world, core::StableTimeStep(*model, stability));
+    if (!substeps.empty()) return substeps;
+    world_.ReplaceModel(object.body, model, BodyOptionsOf(config));
     object.config = config;
     *described = material.Describe();
     return {};

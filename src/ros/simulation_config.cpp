@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -133,6 +134,9 @@ void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string
   if (!(config->poisson > -1.0 && config->poisson < 0.5)) {
     Fail(path + "/poisson", "must lie in (-1, 0.5), got " + std::to_string(config->poisson));
   }
+  if (config->youngs > kMaxYoungs) Fail(path + "/youngs", MaterialProblem(config->youngs, 0, 1));
+  if (config->density > kMaxDensity)
+    Fail(path + "/density", MaterialProblem(1, 0, config->density));
 }
 
 // A shape so large that its volume overflows would reach the builders as a degenerate solid.
@@ -365,6 +369,18 @@ MarkerConfig ReadMarkers(XmlRpcValue& markers) {
 }
 
 }  // namespace
+
+std::string MaterialProblem(double youngs, double poisson, double density) {
+  std::ostringstream problem;
+  if (!(youngs > 0.0 && youngs <= kMaxYoungs)) {
+    problem << "Young's modulus " << youngs << " Pa is outside (0, " << kMaxYoungs << "]";
+  } else if (!(poisson > -1.0 && poisson < 0.5)) {
+    problem << "Poisson's ratio " << poisson << " is outside (-1, 0.5)";
+  } else if (!(density > 0.0 && density <= kMaxDensity)) {
+    problem << "density " << density << " kg/m^3 is outside (0, " << kMaxDensity << "]";
+  }
+  return problem.str();
+}
 
 std::string ResolveUri(const std::string& uri, const std::string& parameter) {
   if (uri.empty()) Fail(parameter, "missing");

@@ -35,6 +35,16 @@ struct ClampConfig {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  ///< the half-space is behind the plane
 };
 
+/// The largest Young's modulus (Pa) and density (kg/m^3) the node takes, from a scene or
+/// ~set_material (the ranges of cfg/ObjectMaterial.cfg): larger finite values overflowed the
+/// clamps' reactions to Inf (README "Bad input").
+inline constexpr double kMaxYoungs = 1e10;
+inline constexpr double kMaxDensity = 1e5;
+
+/// Empty if the material is one the node takes (E in (0, kMaxYoungs], nu in (-1, 0.5), density in
+/// (0, kMaxDensity], all finite); else why not, naming the quantity.
+std::string MaterialProblem(double youngs, double poisson, double density);
+
 struct ObjectConfig {
   std::string name;
   core::BodyShape shape;  ///< YAML shape: type box | sphere | cylinder | mesh (uri, scale)
