@@ -49,11 +49,26 @@ StepReport World::Step(double dt) {
   if (!problem.empty()) {
     // An absurd push is what usually makes a step fail; keeping it would fail every step.
     const bool dropped = RollBack(start);
+    // Without a push to drop, the saved state itself diverges and every later step would fail
+    // the same way (README "Bad input", the soak): first the bodies stop where they are (a node
+    // pushed to near max_speed whose springs then fling it past it); if they still diverge from
+    // rest, their shape does (a lattice crushed beyond what its springs resolve), and they go
+    // back to their rest shape.
+    const char* recovery = "; the step's applied forces were dropped";
+    if (!dropped && !stopped_after_failure_) {
+      StopBodies();
+      recovery = "; the bodies were stopped where they are";
+    } else if (!dropped) {
+      RestoreRestShapes();
+      recovery = "; stopped, they still diverged: the bodies were put back in their rest shape";
+    }
+    stopped_after_failure_ = !dropped && !stopped_after_failure_;
     report.accepted = false;
-    report.reason = problem + (dropped ? "; the step's applied forces were dropped" : "");
+    report.reason = problem + recovery;
     report.solver_iterations = solver_iterations_;
     return report;
   }
+  stopped_after_failure_ = false;
   FinishStep(dt, start);
   report.microcollisions = microcollisions_;
   report.solver_iterations = solver_iterations_;
@@ -95,6 +110,22 @@ std::string World::RunSubsteps(int count, double h,
     if (!problem.empty()) return problem;
   }
   return {};
+}
+
+void World::StopBodies() {
+  for (Body& body : bodies_) {
+    body.state.velocities.setZero();
+    body.pending.clear();
+  }
+}
+
+void World::RestoreRestShapes() {
+  for (Body& body : bodies_) {
+    body.state = State::AtRest(*body.model);
+    body.pending.clear();
+    body.implicit_dv.resize(3, 0);
+    PlaceGroups(&body, time_);
+  }
 }
 
 bool World::RollBack(const StepStart& start) {

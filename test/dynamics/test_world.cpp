@@ -230,5 +230,44 @@ TEST(World, ResetRestoresTheRestState) {
   EXPECT_EQ(world.time(), 0.0);
 }
 
+// A state that fails by itself (a node already faster than max_speed, no push to drop) stops the
+// bodies instead of failing every later step; the soak got stuck this way for 579k steps.
+TEST(World, AStateThatFailsByItselfIsStopped) {
+  World world(WorldOptions{Eigen::Vector3d::Zero()});
+  const auto block = Block();
+  const int body = world.AddBody("block", block);
+  State state = world.state(body);
+  state.velocities.col(0) = Eigen::Vector3d(150.0, 0.0, 0.0);  // above max_speed 100 m/s
+  world.SetState(body, state);
+  const StepReport failed = world.Step(1e-3);
+  ASSERT_FALSE(failed.accepted);
+  EXPECT_NE(failed.reason.find("stopped where they are"), std::string::npos) << failed.reason;
+  EXPECT_EQ(world.state(body).positions, state.positions);
+  EXPECT_EQ(world.state(body).velocities.norm(), 0.0);
+  EXPECT_EQ(world.time(), 0.0);
+  for (int step = 0; step < 10; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+}
+
+// A shape that diverges by itself even at rest (here: every node moved 100 times its rest
+// distance from the centre, springs stretched a hundredfold) goes back to its rest shape after
+// stopping has not helped.
+TEST(World, AShapeThatDivergesAtRestGoesBackToItsRestShape) {
+  World world(WorldOptions{Eigen::Vector3d::Zero()});
+  const auto block = Block();
+  const int body = world.AddBody("block", block);
+  State state = world.state(body);
+  const Eigen::Vector3d centre = block->rest_positions().rowwise().mean();
+  state.positions = (100.0 * (block->rest_positions().colwise() - centre)).colwise() + centre;
+  world.SetState(body, state);
+  const StepReport stopped = world.Step(1e-3);
+  ASSERT_FALSE(stopped.accepted);
+  EXPECT_NE(stopped.reason.find("stopped where they are"), std::string::npos) << stopped.reason;
+  const StepReport restored = world.Step(1e-3);
+  ASSERT_FALSE(restored.accepted);
+  EXPECT_NE(restored.reason.find("rest shape"), std::string::npos) << restored.reason;
+  EXPECT_EQ(world.state(body).positions, block->rest_positions());
+  for (int step = 0; step < 10; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+}
+
 }  // namespace
 }  // namespace msm_sim::core

@@ -156,7 +156,10 @@ struct KinematicGroup {
 /// implicit_max_substep), and either advances everything or,
 /// if any substep produces a non-finite value or a node faster than max_speed, restores the
 /// last good state, drops the forces applied with ApplyForce (an absurd push is the usual cause,
-/// and would fail every later step) and reports why.
+/// and would fail every later step) and reports why. A failed step without applied forces to
+/// drop means that the last good state itself diverges, and every later step would fail too: the
+/// bodies are then stopped where they are (velocities zeroed), and if the next step fails again,
+/// put back in their rest shape (kinematic groups at their current poses).
 class World {
  public:
   explicit World(const WorldOptions& options = {});
@@ -304,6 +307,10 @@ class World {
   std::string RunSubsteps(int count, double h, const std::vector<Eigen::Isometry3d>& start_poses);
   /// Restores what SaveForRollback saved and drops the pushes; returns whether there were any.
   bool RollBack(const StepStart& start);
+  /// Zeroes every body's velocities and pending restitution (a failed step with nothing to drop).
+  void StopBodies();
+  /// Puts every body at rest in its rest shape, its kinematic groups at their current poses.
+  void RestoreRestShapes();
   /// Ends an accepted Step of dt (s): time, collider poses, pushes, wrenches.
   void FinishStep(double dt, const StepStart& start);
   /// Pushes for "one step" are done; timed ones count down by dt (s).
@@ -435,9 +442,10 @@ class World {
   /// Puts a body's kinematic nodes where their frames are at time t.
   void PlaceGroups(Body* body, double t) const;
   int microcollisions_ = 0;
-  int solver_iterations_ = 0;  // during the current Step (implicit)
-  int substep_index_ = 0;      // of the current substep within its Step
-  double substep_ = 0.0;       // s, the current substep
+  int solver_iterations_ = 0;           // during the current Step (implicit)
+  bool stopped_after_failure_ = false;  // the last Step failed and stopped the bodies
+  int substep_index_ = 0;               // of the current substep within its Step
+  double substep_ = 0.0;                // s, the current substep
 
   WorldOptions options_;
   std::vector<Body> bodies_;
