@@ -32,13 +32,14 @@ using param::Text;
 using param::Vector;
 
 // The keys each dictionary of the configuration takes (README "msm_sim_node").
-const std::set<std::string> kWorldKeys = {"frame",     "gravity",          "ground",
-                                          "time_step", "publish_rate",     "real_time",
-                                          "max_force", "time_step_safety", "integrator"};
+const std::set<std::string> kWorldKeys = {
+    "frame",     "gravity",   "ground",           "time_step",  "publish_rate",
+    "real_time", "max_force", "time_step_safety", "integrator", "threads"};
 const std::set<std::string> kObjectKeys = {
-    "name",      "shape",       "pose",     "model",       "spacing",     "target_nodes", "spring",
-    "antialias", "seed",        "material", "youngs",      "poisson",     "density",      "damping",
-    "friction",  "restitution", "clamps",   "visual_mesh", "visual_scale"};
+    "name",         "shape",     "pose",     "model",       "spacing", "target_nodes",
+    "spring",       "antialias", "seed",     "material",    "youngs",  "poisson",
+    "density",      "damping",   "friction", "restitution", "clamps",  "visual_mesh",
+    "visual_scale", "shore_a",   "shore_00"};
 const std::set<std::string> kShapeKeys = {"type", "size", "radius", "length", "uri", "scale"};
 const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout", "links",
                                           "link_friction"};
