@@ -51,7 +51,7 @@ void CheckSiteCount(const BodyRecipe& recipe, double spacing) {
     std::ostringstream text;
     text << "spacing " << spacing << " m gives about " << sites << " lattice sites in a "
          << extent.x() << " x " << extent.y() << " x " << extent.z()
-         << " m region, more than the limit of " << kMaxBodyNodes << " nodes; raise spacing";
+         << " m region, more than the limit of " << kMaxBodyNodes << " nodes; use a larger spacing";
     throw std::invalid_argument(text.str());
   }
 }

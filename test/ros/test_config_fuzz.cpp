@@ -141,7 +141,7 @@ std::vector<Scene> ObjectShapeScenes() {
       {{{"objects/0/shape/type", "torus"}}, "~objects[0]/shape/type"},
       {{{"objects/0/shape/size", "[0.12, -0.08, 0.05]"}}, "~objects[0]/shape/size"},
       {{{"objects/0/shape/size", "[1.0e+300, 1.0e+300, 1.0e+300]"}}, "~objects[0]/shape/size"},
-      {{{"objects/0/shape/size", "[1000, 1000, 1000]"}}, kBlock + "spacing 0.01 m"},
+      {{{"objects/0/shape/size", "[1000, 1000, 1000]"}}, kBlock + "spacing 0.005 m gives"},
       {{{"objects/0/shape", "{type: sphere, radius: 1.0e+200}"}}, "~objects[0]/shape/radius"},
       {{{"objects/0/shape", "{type: mesh, uri: /nonexistent/bean.stl}"}}, "~objects[0]/shape/uri"},
       {{{"objects/0/shape", "{type: mesh, uri: 'package://msm_sim/meshes/none.stl'}"}},
