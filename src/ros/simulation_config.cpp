@@ -1,7 +1,6 @@
 #include "simulation_config.h"
 
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -10,7 +9,7 @@
 #include <ros/package.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
-#include "msm_sim/material/shore_hardness.h"
+#include "object_config_reader.h"
 #include "parameter_tree.h"
 
 namespace msm_sim::ros_interface {
@@ -26,7 +25,6 @@ using param::Has;
 using param::KnownKeys;
 using param::NonNegative;
 using param::Number;
-using param::OneOf;
 using param::Positive;
 using param::Text;
 using param::Vector;
@@ -35,22 +33,9 @@ using param::Vector;
 const std::set<std::string> kWorldKeys = {
     "frame",     "gravity",   "ground",           "time_step",  "publish_rate",
     "real_time", "max_force", "time_step_safety", "integrator", "threads"};
-const std::set<std::string> kObjectKeys = {
-    "name",         "shape",     "pose",     "model",       "spacing", "target_nodes",
-    "spring",       "antialias", "seed",     "material",    "youngs",  "poisson",
-    "density",      "damping",   "friction", "restitution", "clamps",  "visual_mesh",
-    "visual_scale", "shore_a",   "shore_00"};
-const std::set<std::string> kShapeKeys = {"type", "size", "radius", "length", "uri", "scale"};
 const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout", "links",
                                           "link_friction"};
 const std::set<std::string> kMarkerKeys = {"colour_by_strain", "strain_range", "nodes", "springs"};
-// A random model's seed is read as a double: whole numbers above 2^53 are not all representable.
-constexpr double kMaxSeed = 9007199254740992.0;
-
-// A missing mesh file is the configuration's error, reported before any object is built.
-void RequireReadable(const std::string& file, const std::string& parameter) {
-  if (!std::ifstream(file)) Fail(parameter, "cannot read the file '" + file + "'");
-}
 
 WorldConfig ReadWorld(XmlRpcValue& world) {
   const std::string path = "~world";
@@ -85,227 +70,6 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
     FailNotOneOf(integrator, {"explicit", "implicit"}, path + "/integrator");
   }
   return config;
-}
-
-// shore_a or shore_00 instead of youngs: E by the core's conversion (docs/materials.md). At most
-// one of the three; a reading outside the conversion's range fails naming it and the range.
-void ReadHardness(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
-  const bool has_a = Has(object, "shore_a"), has_00 = Has(object, "shore_00");
-  if (!has_a && !has_00) return;
-  const std::string key = has_a ? "shore_a" : "shore_00";
-  if ((has_a && has_00) || Has(object, "youngs")) {
-    Fail(path + "/" + key, "object '" + config->name +
-                               "': give one of youngs (Pa), shore_a and shore_00, not several");
-  }
-  const double reading = Number(object, key, 0.0, path);
-  try {
-    config->youngs =
-        has_a ? core::YoungsFromShoreA(reading).youngs : core::YoungsFromShore00(reading).youngs;
-  } catch (const std::out_of_range& error) {
-    Fail(path + "/" + key,
-         "object '" + config->name + "': " + error.what() + "; give youngs (Pa) instead");
-  }
-}
-
-void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path,
-                  ObjectConfig* config) {
-  config->poisson = 0.25;
-  if (Has(object, "material")) {
-    const std::string name = Text(object, "material", "", path);
-    if (materials == nullptr || !Has(*materials, name)) {
-      Fail(path + "/material", "unknown material '" + name +
-                                   "' (load config/materials.yaml into ~materials, or give "
-                                   "youngs, poisson and density)");
-    }
-    XmlRpcValue& material = (*materials)[name];
-    const std::string material_path = "~materials/" + name;
-    config->youngs = Positive(material, "youngs", 0.0, material_path);
-    config->poisson = Number(material, "poisson", 0.25, material_path);
-    config->density = Positive(material, "density", 0.0, material_path);
-  }
-  // Explicit values override the named material.
-  if (Has(object, "youngs")) config->youngs = Positive(object, "youngs", 0.0, path);
-  ReadHardness(object, path, config);
-  if (Has(object, "poisson")) config->poisson = Number(object, "poisson", 0.25, path);
-  if (Has(object, "density")) config->density = Positive(object, "density", 0.0, path);
-  if (!(config->youngs > 0.0)) {
-    Fail(path + "/youngs", "missing (or give material, shore_a or shore_00)");
-  }
-  if (!(config->density > 0.0)) Fail(path + "/density", "missing (or give material)");
-  if (!(config->poisson > -1.0 && config->poisson < 0.5)) {
-    Fail(path + "/poisson", "must lie in (-1, 0.5), got " + std::to_string(config->poisson));
-  }
-  if (config->youngs > kMaxYoungs) Fail(path + "/youngs", MaterialProblem(config->youngs, 0, 1));
-  if (config->density > kMaxDensity)
-    Fail(path + "/density", MaterialProblem(1, 0, config->density));
-}
-
-// A shape so large that its volume overflows would reach the builders as a degenerate solid.
-void RequireFiniteVolume(const core::BodyShape& shape, const std::string& path) {
-  const auto finite_cube = [](double length) { return std::isfinite(length * length * length); };
-  if (shape.kind == core::BodyShape::Kind::kBox && !finite_cube(shape.size.maxCoeff())) {
-    Fail(path + "/size", "too large: the volume overflows");
-  }
-  if (!finite_cube(shape.radius) || !finite_cube(shape.length)) {
-    Fail(path + (finite_cube(shape.radius) ? "/length" : "/radius"),
-         "too large: the volume overflows");
-  }
-}
-
-core::BodyShape ReadShape(XmlRpcValue& object, const std::string& path) {
-  if (!Has(object, "shape")) Fail(path + "/shape", "missing (box, sphere, cylinder or mesh)");
-  XmlRpcValue& shape = object["shape"];
-  const std::string shape_path = path + "/shape";
-  KnownKeys(shape, kShapeKeys, shape_path);
-  const std::string type = Text(shape, "type", "", shape_path);
-  OneOf(type, {"box", "sphere", "cylinder", "mesh"}, shape_path + "/type");
-  core::BodyShape config;
-  if (type == "box") {
-    config.kind = core::BodyShape::Kind::kBox;
-    config.size = Vector(shape, "size", Eigen::Vector3d::Zero(), shape_path);
-    if ((config.size.array() <= 0.0).any()) Fail(shape_path + "/size", "each must be > 0");
-  } else if (type == "sphere") {
-    config.kind = core::BodyShape::Kind::kSphere;
-    config.radius = Positive(shape, "radius", 0.0, shape_path);
-  } else if (type == "cylinder") {
-    config.kind = core::BodyShape::Kind::kCylinder;
-    config.radius = Positive(shape, "radius", 0.0, shape_path);
-    config.length = Positive(shape, "length", 0.0, shape_path);
-  } else {
-    config.kind = core::BodyShape::Kind::kMesh;
-    config.mesh_path = ResolveUri(Text(shape, "uri", "", shape_path), shape_path + "/uri");
-    RequireReadable(config.mesh_path, shape_path + "/uri");
-    config.mesh_scale = Positive(shape, "scale", 1.0, shape_path);
-  }
-  RequireFiniteVolume(config, shape_path);
-  return config;
-}
-
-// The lattice, by the core's names.
-core::LatticeKind ReadLatticeKind(XmlRpcValue& object, core::LatticeKind fallback,
-                                  const std::string& path) {
-  const std::string name = Text(object, "model", core::LatticeKindName(fallback), path);
-  core::LatticeKind kind = fallback;
-  if (!core::ParseLatticeKind(name, &kind)) {
-    const std::vector<std::string>& names = core::LatticeKindNames();
-    FailNotOneOf(name, {names.begin(), names.end()}, path + "/model");
-  }
-  return kind;
-}
-
-// The spring law, by the core's names.
-core::SpringLaw ReadSpringLaw(XmlRpcValue& object, const std::string& path) {
-  const std::string name = Text(object, "spring", "linear", path);
-  core::SpringLaw law = core::SpringLaw::kLinear;
-  if (!core::ParseSpringLaw(name, &law))
-    FailNotOneOf(name, {"linear", "nonlinear"}, path + "/spring");
-  return law;
-}
-
-Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  if (!Has(object, "pose")) return pose;
-  XmlRpcValue& p = object["pose"];
-  KnownKeys(p, {"position", "rpy"}, path + "/pose");
-  pose.translation() = Vector(p, "position", Eigen::Vector3d::Zero(), path + "/pose");
-  const Eigen::Vector3d rpy = Vector(p, "rpy", Eigen::Vector3d::Zero(), path + "/pose");
-  pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-                   Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-                   Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-                      .toRotationMatrix();
-  return pose;
-}
-
-ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
-  KnownKeys(clamp, {"name", "box", "half_space"}, path);
-  ClampConfig config;
-  config.name = Text(clamp, "name", "", path);
-  if (config.name.empty()) Fail(path + "/name", "missing");
-  if (Has(clamp, "box")) {
-    config.is_box = true;
-    KnownKeys(clamp["box"], {"min", "max"}, path + "/box");
-    config.min = Vector(clamp["box"], "min", Eigen::Vector3d::Zero(), path + "/box");
-    config.max = Vector(clamp["box"], "max", Eigen::Vector3d::Zero(), path + "/box");
-    if ((config.max.array() < config.min.array()).any()) Fail(path + "/box", "max < min");
-  } else if (Has(clamp, "half_space")) {
-    config.is_box = false;
-    KnownKeys(clamp["half_space"], {"point", "normal"}, path + "/half_space");
-    config.point =
-        Vector(clamp["half_space"], "point", Eigen::Vector3d::Zero(), path + "/half_space");
-    config.normal =
-        Vector(clamp["half_space"], "normal", Eigen::Vector3d::UnitZ(), path + "/half_space");
-    if (config.normal.norm() == 0.0) Fail(path + "/half_space/normal", "must not be zero");
-  } else {
-    Fail(path, "needs a box {min, max} or a half_space {point, normal}");
-  }
-  return config;
-}
-
-ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path) {
-  KnownKeys(object, kObjectKeys, path);
-  ObjectConfig config;
-  config.name = Text(object, "name", "", path);
-  if (config.name.empty()) Fail(path + "/name", "missing");
-  config.shape = ReadShape(object, path);
-  config.pose = ReadPose(object, path);
-  config.model = ReadLatticeKind(object, config.model, path);
-  if (config.model == core::LatticeKind::kBaudet &&
-      config.shape.kind != core::BodyShape::Kind::kBox) {
-    Fail(path + "/model", "baudet fills boxes only (shape type box)");
-  }
-  config.spacing = NonNegative(object, "spacing", 0.0, path);
-  config.target_nodes =
-      static_cast<int>(param::Count(object, "target_nodes", 0.0, core::kMaxBodyNodes, path));
-  if ((config.spacing > 0.0) == (config.target_nodes > 0)) {
-    Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
-  }
-  config.spring = ReadSpringLaw(object, path);
-  config.antialias = Flag(object, "antialias", true, path);
-  config.seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
-  ReadMaterial(object, materials, path, &config);
-  config.damping = NonNegative(object, "damping", 2e-4, path);
-  config.friction = NonNegative(object, "friction", config.friction, path);
-  config.restitution = Number(object, "restitution", config.restitution, path);
-  if (config.restitution < 0.0 || config.restitution > 1.0) {
-    Fail(path + "/restitution", "must lie in [0, 1]");
-  }
-  if (Has(object, "clamps")) {
-    XmlRpcValue& clamps = object["clamps"];
-    if (clamps.getType() != XmlRpcValue::TypeArray) Fail(path + "/clamps", "expected a list");
-    for (int c = 0; c < clamps.size(); ++c) {
-      config.clamps.push_back(ReadClamp(clamps[c], path + "/clamps[" + std::to_string(c) + "]"));
-    }
-  }
-  if (Has(object, "visual_mesh")) {
-    config.visual_mesh_path =
-        ResolveUri(Text(object, "visual_mesh", "", path), path + "/visual_mesh");
-    RequireReadable(config.visual_mesh_path, path + "/visual_mesh");
-    config.visual_scale = Positive(object, "visual_scale", 1.0, path);
-  }
-  return config;
-}
-
-// ~objects, each with a unique name; ~materials supplies the materials objects name.
-std::vector<ObjectConfig> ReadObjects(XmlRpcValue& root) {
-  XmlRpcValue materials;
-  const bool has_materials =
-      Get(root, "materials", &materials) && materials.getType() == XmlRpcValue::TypeStruct;
-  XmlRpcValue objects;
-  if (!Get(root, "objects", &objects) || objects.getType() != XmlRpcValue::TypeArray ||
-      objects.size() == 0) {
-    Fail("~objects", "missing: list at least one object (see config/default.yaml)");
-  }
-  std::vector<ObjectConfig> configs;
-  std::set<std::string> names;
-  for (int i = 0; i < objects.size(); ++i) {
-    ObjectConfig object = ReadObject(objects[i], has_materials ? &materials : nullptr,
-                                     "~objects[" + std::to_string(i) + "]");
-    if (!names.insert(object.name).second) {
-      Fail("~objects[" + std::to_string(i) + "]/name", "duplicate name '" + object.name + "'");
-    }
-    configs.push_back(std::move(object));
-  }
-  return configs;
 }
 
 // ~wrench_inputs, each applied to one of the objects.
