@@ -1,0 +1,62 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "msm_sim/dynamics/integrator.h"
+#include "msm_sim/mechanics/force_evaluator.h"
+
+namespace msm_sim::core {
+
+/// How a body moves, besides its Model (which fixes masses and springs).
+struct BodyOptions {
+  double damping_beta = 0.0;  ///< s: spring dampers c = beta k (docs/physics.md §7)
+  double friction = 0.5;      ///< Coulomb coefficient of the body's surface
+  double restitution = 1.0;   ///< e in [0, 1] for contacts between MSM nodes
+  DispersionPasses dispersion = DispersionPasses::kTwoPass;
+  /// Border nodes collide with border nodes of the same body that were at least 2.5 longest
+  /// springs apart at rest (a fold), never with the ones near them. Off by default: objects a
+  /// robot handles rarely fold onto themselves, and a very soft ball squashed flat (E = 20 kPa,
+  /// 40 % strain) gained energy through its self-contacts (measured; see README).
+  bool self_collision = false;
+};
+
+/// How a World steps all of its bodies: gravity, substeps, the integrator and its solver,
+/// contacts and penetration recovery.
+struct WorldOptions {
+  Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  ///< m/s^2
+  /// Fraction of each body's stability limit used as the substep (see StableTimeStep).
+  double time_step_safety = 0.8;
+  /// A step that would move any node faster than this (m/s) is rejected: no soft object a robot
+  /// handles gets there, but a diverging simulation or an absurd force does.
+  double max_speed = 100.0;
+  /// Gauss-Seidel sweeps over a node's contacts with colliders, so that touching several
+  /// surfaces at once (a wedge, a gripper) ends with no approach towards any of them.
+  int contact_iterations = 8;
+  Integrator integrator = Integrator::kExplicit;
+  /// Implicit only: the longest substep (s, finite, > 0); Step(dt) takes equal substeps of at
+  /// most this, whatever the bodies' stable steps.
+  double implicit_max_substep = 1e-3;
+  /// Implicit only: the conjugate-gradient solve stops when the residual impulse on the free
+  /// nodes is this fraction, in (0, 1), of the larger of h |F| and the gravity impulse h M |g|
+  /// (a body at rest has F ~ 0; relative to it alone every solve would chase round-off) ...
+  double implicit_tolerance = 1e-4;
+  /// ... or after this many iterations (>= 1), whichever comes first.
+  int implicit_max_iterations = 200;
+  /// Keep every microcollision with a collider of the last Step (World::contact_points).
+  bool record_contact_points = false;
+  /// Penetration recovery (docs/physics.md §7.2): a node whose collision sphere overlaps a
+  /// collider by a depth d (beyond 1 % of its radius, left as a slop; not yet between MSM
+  /// nodes) is moved out at a pseudo-velocity
+  /// min(penetration_max_speed, d / penetration_recovery_time) along the contact normal, a
+  /// position-only correction of the second half-drift that never becomes kinetic energy. Any
+  /// overlap thus decays with this time constant (s, > 0) ...
+  double penetration_recovery_time = 0.05;
+  /// ... at no more than this separation speed (m/s, >= 0; 0 turns the recovery off).
+  double penetration_max_speed = 0.1;
+  /// The most threads (>= 1) each body's spring passes may use, for bodies of 50,000 springs
+  /// or more (ForceEvaluator: one by default, because two slowed a step fivefold when other
+  /// processes kept the cores busy); results are deterministic for a given thread count.
+  int threads = 1;
+};
+
+}  // namespace msm_sim::core
