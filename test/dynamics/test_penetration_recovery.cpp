@@ -2,12 +2,14 @@
 // allows is moved back out within WorldOptions::penetration_recovery_time, at no more than
 // penetration_max_speed, without an energy burst, for both integrators.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
 
 #include <gtest/gtest.h>
 
+#include "msm_sim/build/body_shape.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/model/model_transform.h"
@@ -47,80 +49,154 @@ struct Recovery {
   int rejected = 0;
 };
 
-// A 2 x 2 cm box whose bottom face starts `depth` below the top layer's node centres, over the
-// middle of the block (base clamped, no gravity), held still for 0.2 s in 1 ms steps.
-Recovery RecoverFromBox(double poisson, double depth, Integrator integrator,
-                        double max_speed = 0.1) {
+// How an indenter reaches its pose `depth` below the block's top node centres.
+enum class Arrival { kTeleported, kPressedSlowly };
+
+// The block (base clamped, no gravity) and an indenter of `shape` whose bottom face is level:
+// a 2 x 2 x 2 cm box, or the same box as a triangle mesh.
+struct Indentation {
+  std::unique_ptr<World> world;
+  int body = 0, collider = 0;
+  double top = 0.0;  // m, the block's top node centres
+  Eigen::Vector3d centre;
+};
+
+Indentation MakeIndentation(double poisson, const ColliderShape& shape, Integrator integrator,
+                            double max_speed) {
   WorldOptions options;
   options.penetration_max_speed = max_speed;
   options.gravity.setZero();
   options.integrator = integrator;
-  World world(options);
+  Indentation s;
+  s.world = std::make_unique<World>(options);
   const auto model = Block(poisson);
   BodyOptions body_options;
   body_options.damping_beta = 1e-4;
-  const int body = world.AddBody("block", model, body_options);
+  s.body = s.world->AddBody("block", model, body_options);
   const double bottom = model->rest_positions().row(2).minCoeff();
-  world.AddKinematicGroup(
-      body, KinematicGroup{"base",
-                           NodesInHalfSpace(*model, Eigen::Vector3d(0.0, 0.0, bottom + 0.0015),
-                                            Eigen::Vector3d::UnitZ()),
-                           {}});
-  const double top = model->rest_positions().row(2).maxCoeff();
-  Collider box;
-  box.name = "box";
-  box.shape = ColliderShape::Box(Eigen::Vector3d(0.02, 0.02, 0.02));
-  const Eigen::Vector3d centre = 0.5 * (model->rest_positions().rowwise().minCoeff() +
-                                        model->rest_positions().rowwise().maxCoeff());
-  box.pose.translation() = Eigen::Vector3d(centre.x(), centre.y(), top - depth + 0.01);
-  const int collider = world.AddCollider(box);
+  s.world->AddKinematicGroup(
+      s.body, KinematicGroup{"base",
+                             NodesInHalfSpace(*model, Eigen::Vector3d(0.0, 0.0, bottom + 0.0015),
+                                              Eigen::Vector3d::UnitZ()),
+                             {}});
+  s.top = model->rest_positions().row(2).maxCoeff();
+  s.centre = 0.5 * (model->rest_positions().rowwise().minCoeff() +
+                    model->rest_positions().rowwise().maxCoeff());
+  Collider indenter;
+  indenter.name = "indenter";
+  indenter.shape = shape;
+  s.collider = s.world->AddCollider(indenter);
+  return s;
+}
+
+// The indenter's bottom face `depth` below the top node centres, either placed there at once
+// or pressed there at 5 mm/s from 0.5 mm clear of the top nodes' collision spheres; then held
+// still for 0.2 s in 1 ms steps. The force is the mean over the hold's last 20 ms.
+Recovery Indent(double poisson, double depth, const ColliderShape& shape, Integrator integrator,
+                Arrival arrival, double max_speed = 0.1) {
+  Indentation s = MakeIndentation(poisson, shape, integrator, max_speed);
+  World& world = *s.world;
+  Collider& indenter = world.collider(s.collider);
+  const auto place = [&](double bottom_z) {
+    indenter.pose.translation() = Eigen::Vector3d(s.centre.x(), s.centre.y(), bottom_z + 0.01);
+  };
   Recovery r;
-  r.overlap_before = Overlap(world, body, collider);
+  if (arrival == Arrival::kPressedSlowly) {
+    const double speed = 0.005, start = s.top + 0.002, end = s.top - depth;
+    indenter.linear_velocity = Eigen::Vector3d(0.0, 0.0, -speed);
+    const int steps = static_cast<int>(std::ceil((start - end) / (speed * 1e-3)));
+    for (int k = 0; k <= steps; ++k) {
+      place(std::max(end, start - k * speed * 1e-3));
+      if (!world.Step(1e-3).accepted) ++r.rejected;
+    }
+    indenter.linear_velocity.setZero();
+  }
+  place(s.top - depth);
+  r.overlap_before = Overlap(world, s.body, s.collider);
   r.peak_kinetic = 0.0;
   r.max_total = -std::numeric_limits<double>::infinity();
   double force = 0.0;
   for (int k = 0; k < 200; ++k) {
     if (!world.Step(1e-3).accepted) ++r.rejected;
-    const Energies energies = world.ComputeEnergies(body);
+    const Energies energies = world.ComputeEnergies(s.body);
     r.peak_kinetic = std::max(r.peak_kinetic, energies.kinetic);
-    if (k == 49) r.overlap_at_50ms = Overlap(world, body, collider);
+    if (k == 49) r.overlap_at_50ms = Overlap(world, s.body, s.collider);
     r.max_total = std::max(r.max_total, energies.total());
-    if (k >= 180) force += world.wrenches(body)[collider].force.z() / 20.0;
+    if (k >= 180) force += world.wrenches(s.body)[s.collider].force.z() / 20.0;
     r.final_elastic = energies.elastic;
     r.final_total = energies.total();
   }
-  r.overlap_after = Overlap(world, body, collider);
+  r.overlap_after = Overlap(world, s.body, s.collider);
   r.force_after = force;
   std::printf(
-      "  box %.1f mm deep, nu %.2f, %s: overlap %.3f mm -> %.3f mm (50 ms) -> %.4f mm (0.2 s), "
+      "  %s %s %.1f mm deep, nu %.2f, %s: overlap %.3f mm -> %.3f mm (50 ms) -> %.4f mm (0.2 s), "
       "force %.3f N, kinetic peak %.3g J, elastic %.3g J, total max %.4g / final %.4g J\n",
-      1e3 * depth, poisson, integrator == Integrator::kImplicit ? "implicit" : "explicit",
-      1e3 * r.overlap_before, 1e3 * r.overlap_at_50ms, 1e3 * r.overlap_after, r.force_after,
-      r.peak_kinetic, r.final_elastic, r.max_total, r.final_total);
+      shape.type() == ColliderShape::Type::kMesh ? "mesh box" : "box",
+      arrival == Arrival::kTeleported ? "teleported" : "pressed", 1e3 * depth, poisson,
+      IntegratorName(integrator), 1e3 * r.overlap_before, 1e3 * r.overlap_at_50ms,
+      1e3 * r.overlap_after, r.force_after, r.peak_kinetic, r.final_elastic, r.max_total,
+      r.final_total);
   return r;
+}
+
+ColliderShape Box2cm() { return ColliderShape::Box(Eigen::Vector3d(0.02, 0.02, 0.02)); }
+
+ColliderShape MeshBox2cm() {
+  BodyShape box;
+  box.kind = BodyShape::Kind::kBox;
+  box.size = Eigen::Vector3d(0.02, 0.02, 0.02);
+  return ColliderShape::Mesh(std::make_shared<const SolidMesh>(MakeBodySolid(box)));
+}
+
+Recovery RecoverFromBox(double poisson, double depth, Integrator integrator,
+                        double max_speed = 0.1) {
+  return Indent(poisson, depth, Box2cm(), integrator, Arrival::kTeleported, max_speed);
 }
 
 void ExpectRecovered(const Recovery& r) {
   EXPECT_EQ(r.rejected, 0);
   EXPECT_GT(r.overlap_before, 0.0055);  // 4 mm plus a collision radius
-  // After 0.2 s no collision sphere overlaps the box by more than 0.2 mm (measured 0.11 mm: the
-  // overlap decays as exp(-t / 50 ms) once below 5 mm; the bound is a collision radius,
-  // 1.5 mm).
+  // After 0.2 s no collision sphere overlaps the box by more than 0.2 mm (measured 0.10-0.13
+  // mm: the overlap decays as exp(-t / 50 ms) once below 5 mm; the bound is a collision
+  // radius, 1.5 mm).
   EXPECT_LT(r.overlap_after, 2e-4);
-  // The correction moves positions only and stores elastic energy as it goes: the total energy
-  // rises to the recovered state's and never bursts above it.
-  EXPECT_LT(r.max_total, 1.02 * r.final_total);
+}
+
+// Teleported 4 mm in and held: recovered, and within 10 % of the force of the same indenter
+// pressed slowly to the same pose (the tolerance).
+void ExpectRecoveredToThePressedForce(double poisson, const ColliderShape& shape,
+                                      Integrator integrator) {
+  const Recovery teleported = Indent(poisson, 0.004, shape, integrator, Arrival::kTeleported);
+  const Recovery pressed = Indent(poisson, 0.004, shape, integrator, Arrival::kPressedSlowly);
+  ExpectRecovered(teleported);
+  // No burst: the block rings with at most a fifth of the elastic energy the recovery stores
+  // (measured 12-13 %, as much as with friction during the recovery).
+  EXPECT_LT(teleported.peak_kinetic, 0.2 * teleported.final_elastic);
+  EXPECT_EQ(pressed.rejected, 0);
+  EXPECT_NEAR(teleported.force_after, pressed.force_after, 0.1 * pressed.force_after)
+      << "nu " << poisson << ", " << IntegratorName(integrator);
 }
 
 TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOut) {
-  ExpectRecovered(RecoverFromBox(0.25, 0.004, Integrator::kExplicit));
-  ExpectRecovered(RecoverFromBox(0.45, 0.004, Integrator::kExplicit));
+  for (const double poisson : {0.25, 0.45}) {
+    ExpectRecoveredToThePressedForce(poisson, Box2cm(), Integrator::kExplicit);
+  }
 }
 
+// The implicit integrator recovers without a burst, but not yet to the pressed force: the box
+// teleported in ends at 11.1 N, pressed slowly at 6.6 N (nu 0.45; README "Penetration").
 TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOutImplicit) {
   const Recovery r = RecoverFromBox(0.45, 0.004, Integrator::kImplicit);
   ExpectRecovered(r);
-  EXPECT_LT(r.peak_kinetic, 0.01 * r.final_elastic);  // measured 0.03 %
+  // The correction moves positions only and stores elastic energy as it goes: no burst.
+  EXPECT_LT(r.peak_kinetic, 0.01 * r.final_elastic);  // measured 0.08 %
+  EXPECT_LT(r.max_total, 1.02 * r.final_total);
+}
+
+TEST(PenetrationRecovery, MeshColliderTeleportedIntoABlockIsPushedOut) {
+  for (const double poisson : {0.25, 0.45}) {
+    ExpectRecoveredToThePressedForce(poisson, MeshBox2cm(), Integrator::kExplicit);
+  }
 }
 
 TEST(PenetrationRecovery, SeparationSpeedIsBounded) {

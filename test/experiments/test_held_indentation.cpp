@@ -57,14 +57,22 @@ Comparison Compare(double poisson, Integrator integrator) {
   // 1.5 mm. No step was rejected (RunIndentationExperiment would throw).
   EXPECT_LT(held.overlap_after, 1e-4);
   // No energy burst: the block never moves with more than 5 % of the elastic energy the
-  // recovery stores (measured 1.5 % explicit, 0.04 % implicit).
+  // recovery stores (measured 1.3-2.2 % explicit, 0.04 % implicit).
   EXPECT_LT(held.peak_kinetic, 0.05 * held.final_elastic);
   return c;
 }
 
-TEST(HeldIndentation, RecoversNu025) { Compare(0.25, Integrator::kExplicit); }
+// Within the 10 % of the slowly pressed force: measured 0.951 (nu 0.25) and 0.919
+// (nu 0.45); 0.826 and 0.688 while the recovering nodes had friction (docs/physics.md §7.2).
+TEST(HeldIndentation, RecoversToTheSlowlyPressedForceNu025) {
+  const Comparison c = Compare(0.25, Integrator::kExplicit);
+  EXPECT_NEAR(c.held.force_after, c.slow_force, 0.1 * c.slow_force);
+}
 
-TEST(HeldIndentation, RecoversNu045) { Compare(0.45, Integrator::kExplicit); }
+TEST(HeldIndentation, RecoversToTheSlowlyPressedForceNu045) {
+  const Comparison c = Compare(0.45, Integrator::kExplicit);
+  EXPECT_NEAR(c.held.force_after, c.slow_force, 0.1 * c.slow_force);
+}
 
 TEST(HeldIndentation, RecoversToTheSlowlyPressedForceImplicit) {
   for (const double poisson : {0.25, 0.45}) {

@@ -299,7 +299,7 @@ class World {
   void StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Vector3d* v) const;
   /// Friction into *v, the rebound pending, the impulse recorded. Precondition: stopped > 0.
   void RespondToColliderContact(Body* body, NodeIndex node, const NodeContact& contact,
-                                Eigen::Vector3d* v) const;
+                                bool frictionless, Eigen::Vector3d* v) const;
   /// The impulse a node gave a collider in this substep (normal_impulse N s along -normal,
   /// tangential N s along the surface) into the collider's sum and, if recording, the contact
   /// points.
