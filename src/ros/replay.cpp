@@ -220,9 +220,9 @@ Replayer::Replayer(const ReplayOptions& options, const SimulationConfig& config,
 
 void Replayer::AdvanceTo(const ros::Time& until) {
   while (next_tick_ <= until) {
-    simulation_.UpdateRobot(tf_, next_tick_);
-    simulation_.Advance((next_tick_ - start_).toSec() - simulation_.time(), next_tick_,
-                        ros::WallTime());
+    const double seconds = (next_tick_ - start_).toSec() - simulation_.time();
+    simulation_.UpdateRobot(tf_, next_tick_, seconds);
+    simulation_.Advance(seconds, next_tick_, ros::WallTime());
     PublishOutputs(next_tick_);
     next_tick_ += ros::Duration(period_);
   }

@@ -14,6 +14,22 @@
 namespace msm_sim::ros_interface {
 namespace {
 
+// Places the collider at `start` with the twist that takes it to `end` in `seconds` (the World
+// advances colliders with their twists); at `end`, still, if seconds is 0.
+void MoveCollider(const Eigen::Isometry3d& start, const Eigen::Isometry3d& end, double seconds,
+                  core::Collider* collider) {
+  collider->linear_velocity.setZero();
+  collider->angular_velocity.setZero();
+  if (!(seconds > 0.0)) {
+    collider->pose = end;
+    return;
+  }
+  collider->pose = start;
+  collider->linear_velocity = (end.translation() - start.translation()) / seconds;
+  const Eigen::AngleAxisd turn(end.linear() * start.linear().transpose());
+  collider->angular_velocity = turn.axis() * (turn.angle() / seconds);
+}
+
 Eigen::Isometry3d ToIsometry(const urdf::Pose& pose) {
   Eigen::Isometry3d result = Eigen::Isometry3d::Identity();
   result.translation() = Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
@@ -129,7 +145,7 @@ int RobotColliders::LinkOfCollider(int collider) const {
   return -1;
 }
 
-void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now) {
+void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now, double seconds) {
   for (Link& link : links_) {
     bool fresh = false;
     try {
@@ -139,26 +155,18 @@ void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now)
       const ros::Time stamp = transform.header.stamp;
       // Static transforms carry stamp 0 and never go stale.
       fresh = stamp.isZero() || (now - stamp).toSec() <= config_.tf_timeout;
-      // Between tf updates the World moves the collider on with its twist; only a new
-      // transform resets it.
-      if (fresh && (!link.has_pose || stamp != link.stamp)) {
-        Eigen::Vector3d linear = Eigen::Vector3d::Zero(), angular = Eigen::Vector3d::Zero();
-        const double dt = link.has_pose ? (stamp - link.stamp).toSec() : 0.0;
-        if (dt > 0.0) {
-          linear = (pose.translation() - link.pose.translation()) / dt;
-          const Eigen::AngleAxisd turn(pose.linear() * link.pose.linear().transpose());
-          angular = turn.axis() * turn.angle() / dt;
-        }
+      // Over the coming `seconds` the colliders travel from where the last update sent them
+      // to the latest tf pose, at constant twist: never ahead of tf. (Extrapolating the last
+      // twist over a publication period carried a fingertip whose tf jumped 14 mm in 10 ms
+      // another 46 mm on, through the block, which stayed dented.)
+      if (fresh) {
+        const Eigen::Isometry3d from = link.has_pose ? link.pose : pose;
         link.pose = pose;
         link.stamp = stamp;
         link.has_pose = true;
         for (std::size_t k = 0; k < link.colliders.size(); ++k) {
-          core::Collider& collider = world_->collider(link.colliders[k]);
-          collider.pose = pose * link.origins[k];
-          // The velocity of the collider's frame origin, from the link's twist.
-          collider.angular_velocity = angular;
-          collider.linear_velocity =
-              linear + angular.cross(collider.pose.translation() - pose.translation());
+          MoveCollider(from * link.origins[k], pose * link.origins[k], seconds,
+                       &world_->collider(link.colliders[k]));
         }
       }
     } catch (const tf2::TransformException& e) {

@@ -1,6 +1,7 @@
 #pragma once
 // A robot's links as kinematic colliders: collision geometry from the URDF, poses from tf2,
-// twists from successive poses (README "Robot in the loop").
+// each moved from its previous pose to its latest one over the next simulated interval (README
+// "Robot in the loop").
 
 #include <string>
 #include <vector>
@@ -20,7 +21,7 @@ class RobotColliders {
     std::string name;
     std::vector<int> colliders;              // World collider indices
     std::vector<Eigen::Isometry3d> origins;  // collision origin in the link frame, per collider
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // link in the world frame
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // link in the world frame, latest
     ros::Time stamp;                                         // of the pose (0: static)
     bool has_pose = false;
     bool live = false;      // tf is fresh: contacts on
@@ -33,9 +34,12 @@ class RobotColliders {
   RobotColliders(const RobotConfig& config, const std::string& description,
                  const std::string& world_frame, core::World* world);
 
-  /// Poses and twists from tf at `now`; a link whose transform is missing or older than the
-  /// timeout gets its contacts turned off (throttled warning) until tf returns.
-  void Update(const tf2::BufferCore& buffer, const ros::Time& now);
+  /// The links' latest tf poses at `now`, to be reached over the next `seconds` (>= 0) of
+  /// simulation: each collider is placed where the previous update sent it, with the twist that
+  /// takes it to the new pose in that time (0: placed there at once, still). A link whose
+  /// transform is missing or older than the timeout gets its contacts turned off (throttled
+  /// warning) until tf returns.
+  void Update(const tf2::BufferCore& buffer, const ros::Time& now, double seconds);
 
   const std::vector<Link>& links() const { return links_; }
   /// The link a World collider belongs to, or -1.

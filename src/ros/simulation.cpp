@@ -170,8 +170,9 @@ std::string Simulation::SetWrench(std::size_t index, const geometry_msgs::Wrench
   return {};
 }
 
-void Simulation::UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now) {
-  robot_->Update(tf, now);
+void Simulation::UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now, double seconds) {
+  const double dt = config_.world.time_step;
+  robot_->Update(tf, now, std::max(0.0, std::floor(seconds / dt + 1e-9)) * dt);
 }
 
 void Simulation::Reset() {

@@ -48,8 +48,9 @@ class Simulation {
   /// std::out_of_range otherwise) until the next message, or for 0.5 s of `now` without one.
   std::string SetWrench(std::size_t input, const geometry_msgs::WrenchStamped& message,
                         const ros::Time& now, const tf2::BufferCore& tf);
-  /// Robot link poses from tf at `now`.
-  void UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now);
+  /// Robot link poses from tf at `now`, reached over the whole steps the next Advance(seconds)
+  /// takes (RobotColliders::Update).
+  void UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now, double seconds);
   /// Steps `seconds` of simulation (whole time steps), stopping early after `deadline` (zero:
   /// none); `now` (ROS time) ages the held wrench inputs.
   void Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline);

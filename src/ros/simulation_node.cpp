@@ -85,7 +85,6 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
     origin_ = now - ros::Duration(simulation_->time());  // 0 unless it ran unpaced before
     started_ = true;
   }
-  simulation_->UpdateRobot(tf_buffer_, now);
   if (!paused_) {
     // Catch up, but within 80 % of a publication period of wall time: a simulation slower
     // than real time then falls behind (the diagnostics' real-time factor says by how much)
@@ -95,10 +94,12 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
       origin_ += ros::Duration(behind - 0.5);
       behind = 0.5;
     }
+    simulation_->UpdateRobot(tf_buffer_, now, behind);
     simulation_->Advance(
         behind, now,
         ros::WallTime::now() + ros::WallDuration(0.8 / simulation_->config().world.publish_rate));
   } else {
+    simulation_->UpdateRobot(tf_buffer_, now, 0.0);
     origin_ = now - ros::Duration(simulation_->time());  // paused time does not count
   }
   Publish(now);
@@ -107,10 +108,9 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
 void SimulationNode::OnWallTimer(const ros::WallTimerEvent&) {
   // As fast as possible: one publication interval of simulated time per call.
   const ros::Time now = ros::Time::now();
-  simulation_->UpdateRobot(tf_buffer_, now);
-  if (!paused_) {
-    simulation_->Advance(1.0 / simulation_->config().world.publish_rate, now, ros::WallTime());
-  }
+  const double seconds = paused_ ? 0.0 : 1.0 / simulation_->config().world.publish_rate;
+  simulation_->UpdateRobot(tf_buffer_, now, seconds);
+  if (!paused_) simulation_->Advance(seconds, now, ros::WallTime());
   Publish(now);
 }
 
