@@ -6,6 +6,7 @@
 #   make lab    the same, then the materials lab on a default block
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
 #   make bench  build and run the Google Benchmarks (bench/)
+#   make soak   10 simulated minutes of random pushes on two objects (not part of `make test`)
 #   make test-sanitize  the core and lab gtests under AddressSanitizer and UBSan (build/ws-sanitize)
 
 SHELL := /bin/bash
@@ -16,7 +17,7 @@ export PATH := /usr/bin:/bin:$(PATH)
 CATKIN_MAKE := catkin_make -C $(WS) -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
 JOBS ?= -j2
 
-.PHONY: deps workspace build demo lab test test-sanitize bench format clean
+.PHONY: deps workspace build demo lab test test-sanitize soak bench format clean
 
 deps:
 	@$(ROOT)/scripts/install_dependencies.sh
@@ -97,3 +98,9 @@ format:
 
 clean:
 	rm -rf $(ROOT)/build
+
+# Issue "Hardening": the core World under 10 simulated minutes of random pushes up to 100 object
+# weights, on the default block and a random-lattice bean; prints the figures (a few minutes).
+soak: build
+	$(CATKIN_MAKE) -j1 test_soak
+	$(WS)/devel/lib/msm_sim/test_soak
