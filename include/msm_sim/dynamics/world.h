@@ -331,6 +331,12 @@ class World {
   void StopPairApproaches(std::vector<PairContact>* pairs) const;
   /// Friction between the pair's nodes, their rebound pending. Precondition: stopped > 0.
   static void RespondToPairContact(const PairContact& pair);
+  /// Moves the nodes of the pairs that overlap beyond the slop apart, by the part of the
+  /// recovery speed their relative velocity lacks, times h, shared by inverse masses; each
+  /// node's summed shift capped at penetration_max_speed times h.
+  void RecoverFromPairs(const std::vector<PairContact>& pairs);
+  /// The body's slot of *shifts (one per body), zero-filled on first use.
+  Eigen::Matrix3Xd& ShiftOf(const Body* body, std::vector<Eigen::Matrix3Xd>* shifts) const;
   /// Coulomb coefficient of a body against a collider: the pair's, or sqrt(mu_body mu_collider).
   double Friction(const Body& body, int collider) const;
 

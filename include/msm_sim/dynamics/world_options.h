@@ -45,8 +45,8 @@ struct WorldOptions {
   /// Keep every microcollision with a collider of the last Step (World::contact_points).
   bool record_contact_points = false;
   /// Penetration recovery (docs/physics.md §7.2): a node whose collision sphere overlaps a
-  /// collider by a depth d (beyond 1 % of its radius, left as a slop; not yet between MSM
-  /// nodes) is moved out at a pseudo-velocity
+  /// collider or another node's sphere by a depth d (beyond 1 % of the radii, left as a slop)
+  /// is moved out at a pseudo-velocity
   /// min(penetration_max_speed, d / penetration_recovery_time) along the contact normal, a
   /// position-only correction of the second half-drift that never becomes kinetic energy. Any
   /// overlap thus decays with this time constant (s, > 0) ...

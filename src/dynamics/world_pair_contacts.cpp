@@ -1,0 +1,195 @@
+// Stages 5-6 of World::Substep between border nodes (of two bodies, or of a folded one):
+// detect the touching pairs, stop every approach, leave the rebound pending, recover overlaps.
+#include "msm_sim/dynamics/world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "geometry/spatial_hash_grid.h"
+
+namespace msm_sim::core {
+namespace {
+
+// As for the colliders (world_contacts.cpp): the fraction of the pair's reach left overlapping,
+// and the overlap beyond which the pair is being recovered and is frictionless.
+constexpr double kPairRecoverySlop = 0.01;
+constexpr double kPairFrictionlessOverlap = 0.1;
+
+}  // namespace
+
+// A contact between two border nodes during a substep.
+struct World::PairContact {
+  Body* body_i;
+  NodeIndex i;
+  Body* body_j;
+  NodeIndex j;
+  Eigen::Vector3d normal;  // from j to i
+  double inverse_mass_i, inverse_mass_j, reduced_mass, restitution, friction;
+  double overlap;        // reach - distance (m, > 0)
+  double reach;          // sum of the collision radii (m)
+  double stopped = 0.0;  // normal impulse that stopped the approach
+};
+
+void World::CollideNodes(int* microcollisions) {
+  // Contacts first, then Gauss-Seidel sweeps over all of them: a node resting on several nodes
+  // below it must end approaching none of them (a single pass left some approach, and a block
+  // stacked on another sank into it within a second).
+  std::vector<PairContact> pairs = FindTouchingPairs();
+  if (pairs.empty()) return;
+  StopPairApproaches(&pairs);
+  for (const PairContact& pair : pairs) {
+    if (pair.stopped <= 0.0) continue;
+    RespondToPairContact(pair);
+    ++*microcollisions;
+  }
+  RecoverFromPairs(pairs);
+}
+
+std::vector<World::PairContact> World::FindTouchingPairs() {
+  struct Entry {
+    int body;
+    NodeIndex node;
+    double radius;
+  };
+  std::vector<Entry> entries;
+  double max_radius = 0.0;
+  bool any_self = false;
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    any_self = any_self || bodies_[b].options.self_collision;
+    for (std::size_t k = 0; k < bodies_[b].border.nodes.size(); ++k) {
+      entries.push_back(
+          {static_cast<int>(b), bodies_[b].border.nodes[k], bodies_[b].border.radii[k]});
+      max_radius = std::max(max_radius, bodies_[b].border.radii[k]);
+    }
+  }
+  if (entries.empty() || (bodies_.size() < 2 && !any_self)) return {};
+  SpatialHashGrid grid(2.0 * max_radius);
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    grid.Insert(static_cast<int>(e), bodies_[entries[e].body].state.positions.col(entries[e].node));
+  }
+  std::vector<PairContact> pairs;
+  for (std::size_t e = 0; e < entries.size(); ++e) {
+    const Entry& first = entries[e];
+    Body& body_i = bodies_[first.body];
+    const Eigen::Vector3d xi = body_i.state.positions.col(first.node);
+    grid.ForEachWithin(xi, first.radius + max_radius, [&](int other, const Eigen::Vector3d& xj) {
+      if (other <= static_cast<int>(e)) return;  // each pair once
+      const Entry& second = entries[other];
+      if (first.body == second.body && !MayTouchItself(body_i, first.node, second.node)) return;
+      AddPairIfTouching(&body_i, first.node, &bodies_[second.body], second.node, xi - xj,
+                        first.radius + second.radius, &pairs);
+    });
+  }
+  return pairs;
+}
+
+bool World::MayTouchItself(const Body& body, NodeIndex i, NodeIndex j) {
+  // Self-contact is a fold bringing together parts of the body that were apart at rest. Nodes
+  // near each other at rest (every spring-connected pair among them) only get close by
+  // compressing the material between them, which the springs already resist; treating that as
+  // contact made a squashed ball chatter and blow up.
+  if (!body.options.self_collision) return false;
+  const Eigen::Matrix3Xd& rest = body.model->rest_positions();
+  return (rest.col(i) - rest.col(j)).squaredNorm() >= body.self_contact_rest_distance_sq;
+}
+
+void World::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex j,
+                              const Eigen::Vector3d& d, double reach,
+                              std::vector<PairContact>* pairs) {
+  const double distance = d.norm();
+  if (distance >= reach || distance == 0.0) return;
+  // A constrained node acts as an infinite mass.
+  const double inv_i = body_i->constrained[i] ? 0.0 : 1.0 / body_i->model->masses()[i];
+  const double inv_j = body_j->constrained[j] ? 0.0 : 1.0 / body_j->model->masses()[j];
+  if (inv_i + inv_j == 0.0) return;
+  // A pair overlapping deeper than a resting one would is being recovered: frictionless, as
+  // for the colliders (an overlap has no sliding history).
+  const double overlap = reach - distance;
+  const double friction = overlap > kPairFrictionlessOverlap * reach
+                              ? 0.0
+                              : std::sqrt(body_i->options.friction * body_j->options.friction);
+  pairs->push_back({body_i, i, body_j, j, d / distance, inv_i, inv_j, 1.0 / (inv_i + inv_j),
+                    std::min(body_i->options.restitution, body_j->options.restitution), friction,
+                    overlap, reach});
+}
+
+void World::StopPairApproaches(std::vector<PairContact>* pairs) const {
+  for (int sweep = 0; sweep < options_.contact_iterations; ++sweep) {
+    bool approaching = false;
+    for (PairContact& pair : *pairs) {
+      auto vi = pair.body_i->state.velocities.col(pair.i);
+      auto vj = pair.body_j->state.velocities.col(pair.j);
+      const double vn = (vi - vj).dot(pair.normal);
+      if (vn >= 0.0) continue;
+      const double impulse = -vn * pair.reduced_mass;
+      vi += impulse * pair.inverse_mass_i * pair.normal;
+      vj -= impulse * pair.inverse_mass_j * pair.normal;
+      pair.stopped += impulse;
+      approaching = true;
+    }
+    if (!approaching) break;
+  }
+}
+
+void World::RespondToPairContact(const PairContact& pair) {
+  auto vi = pair.body_i->state.velocities.col(pair.i);
+  auto vj = pair.body_j->state.velocities.col(pair.j);
+  // Friction up to mu times the pair's normal impulse, never reversing the sliding.
+  const Eigen::Vector3d relative = vi - vj;
+  const Eigen::Vector3d sliding = relative - relative.dot(pair.normal) * pair.normal;
+  const double slide_speed = sliding.norm();
+  if (slide_speed > 0.0) {
+    const double tangential = std::min(pair.friction * (1.0 + pair.restitution) * pair.stopped,
+                                       pair.reduced_mass * slide_speed);
+    vi -= tangential * pair.inverse_mass_i / slide_speed * sliding;
+    vj += tangential * pair.inverse_mass_j / slide_speed * sliding;
+  }
+  if (pair.restitution > 0.0) {
+    const Eigen::Vector3d rebound = pair.restitution * pair.stopped * pair.normal;
+    pair.body_i->pending.push_back({pair.i, pair.inverse_mass_i * rebound});
+    pair.body_j->pending.push_back({pair.j, -pair.inverse_mass_j * rebound});
+  }
+}
+
+// Penetration recovery between nodes (docs/physics.md §7.2): the collider's position-level
+// correction, the pair's shift shared by inverse masses.
+void World::RecoverFromPairs(const std::vector<PairContact>& pairs) {
+  // Summed per node first, then capped at the recovery's speed: a node pushed into another
+  // body's lattice overlaps several of its nodes, and their shifts add up (applied pair by pair
+  // they carried nodes out at several times the speed, and steps were rejected).
+  std::vector<Eigen::Matrix3Xd> shifts(bodies_.size());
+  bool any = false;
+  for (const PairContact& pair : pairs) {
+    const double target = RecoverySpeed(pair.overlap - kPairRecoverySlop * pair.reach);
+    const auto vi = pair.body_i->state.velocities.col(pair.i);
+    const auto vj = pair.body_j->state.velocities.col(pair.j);
+    const double separating = (vi - vj).dot(pair.normal);
+    if (!(target > separating)) continue;
+    const double per_inverse_mass =
+        (target - separating) * substep_ / (pair.inverse_mass_i + pair.inverse_mass_j);
+    ShiftOf(pair.body_i, &shifts).col(pair.i) +=
+        per_inverse_mass * pair.inverse_mass_i * pair.normal;
+    ShiftOf(pair.body_j, &shifts).col(pair.j) -=
+        per_inverse_mass * pair.inverse_mass_j * pair.normal;
+    any = true;
+  }
+  if (!any) return;
+  const double cap = options_.penetration_max_speed * substep_;
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    Eigen::Matrix3Xd& shift = shifts[b];
+    for (Eigen::Index node = 0; node < shift.cols(); ++node) {
+      const double length = shift.col(node).norm();
+      if (length > cap) shift.col(node) *= cap / length;
+    }
+    if (shift.cols() > 0) bodies_[b].state.positions += shift;
+  }
+}
+
+Eigen::Matrix3Xd& World::ShiftOf(const Body* body, std::vector<Eigen::Matrix3Xd>* shifts) const {
+  Eigen::Matrix3Xd& shift = (*shifts)[static_cast<std::size_t>(body - bodies_.data())];
+  if (shift.cols() == 0) shift.setZero(3, body->state.positions.cols());
+  return shift;
+}
+
+}  // namespace msm_sim::core
