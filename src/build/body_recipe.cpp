@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -10,6 +11,7 @@
 
 #include "msm_sim/build/baudet_lattice_builder.h"
 #include "msm_sim/build/mesh_lattice_builder.h"
+#include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/model/model_transform.h"
 
 namespace msm_sim::core {
@@ -112,9 +114,27 @@ Model BuildBaudetInBox(const BodyRecipe& recipe, double spacing) {
   return BuildBaudetLattice(recipe.material, options);
 }
 
+// A lattice rotated against the box cuts its faces through cells: built through the box as a
+// solid, those cells are weighted by the fraction inside (docs/physics.md §5), as a mesh's are.
+// The box lattice keeps whole cells or none, which read E -6.6 % at 37 degrees (-1.9 % through
+// the solid).
+bool AntiAliasesTheBox(const BodyRecipe& recipe) {
+  return recipe.antialias && recipe.rotation_angle != 0.0 &&
+         recipe.construction == CubicConstruction::kNodeCentred;
+}
+
+Model BuildCubicInBoxSolid(const BodyRecipe& recipe, double spacing) {
+  TriangleMesh box = MakeBoxMesh(recipe.box_size);
+  box.vertices.colwise() += 0.5 * recipe.box_size;  // the box region is [0, box_size]
+  BodyRecipe through_solid = recipe;
+  through_solid.solid = std::make_shared<const SolidMesh>(box);
+  return BuildInSolid(through_solid, spacing);
+}
+
 Model BuildInBox(const BodyRecipe& recipe, double spacing) {
   switch (recipe.lattice) {
     case LatticeKind::kCubic:
+      if (AntiAliasesTheBox(recipe)) return BuildCubicInBoxSolid(recipe, spacing);
       return BuildCubicInBox(recipe, spacing);
     case LatticeKind::kBaudet:
       return BuildBaudetInBox(recipe, spacing);

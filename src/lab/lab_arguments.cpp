@@ -48,7 +48,8 @@ CLI::Option* AddBodyOptions(CLI::App* command, ModelArguments* model, std::vecto
   command
       ->add_option_function<std::string>(
           "--antialias", [model](const std::string& v) { model->antialias = v == "on"; },
-          "mesh + cubic: cells weighted by the fraction inside the surface: on | off")
+          "cubic in a mesh, or in a --size box with --rotate: cells weighted by the fraction "
+          "inside the surface: on | off")
       ->check(CLI::IsMember({"on", "off"}));
   return size_option;
 }

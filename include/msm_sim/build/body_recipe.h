@@ -83,7 +83,8 @@ struct BodyRecipe {
   double rotation_angle = 0.0;
   /// Cubic: node-centred (default) or element-corner; a solid takes node-centred only.
   CubicConstruction construction = CubicConstruction::kNodeCentred;
-  /// Cubic in a solid: docs/physics.md §5 anti-aliasing (cells weighted by the fraction inside the
+  /// Node-centred cubic in a solid, or in a box whose lattice is rotated (built through the box
+  /// as a solid): docs/physics.md §5 anti-aliasing (cells weighted by the fraction inside the
   /// surface). Default on.
   bool antialias = true;
   /// Random: the random sequential addition's seed; same seed, same model. Default 1.
