@@ -8,6 +8,7 @@
 #   make bench  build and run the Google Benchmarks (bench/)
 #   make soak   10 simulated minutes of random pushes on two objects (not part of `make test`)
 #   make test-sanitize  the core and lab gtests under AddressSanitizer and UBSan (build/ws-sanitize)
+#   make fuzz   libFuzzer on the mesh and model-file readers, FUZZ_SECONDS each (build/fuzz, clang)
 
 SHELL := /bin/bash
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
@@ -17,7 +18,7 @@ export PATH := /usr/bin:/bin:$(PATH)
 CATKIN_MAKE := catkin_make -C $(WS) -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
 JOBS ?= -j2
 
-.PHONY: deps workspace build demo lab test test-sanitize soak bench format clean
+.PHONY: deps workspace build demo lab test test-sanitize soak fuzz bench format clean
 
 deps:
 	@$(ROOT)/scripts/install_dependencies.sh
@@ -73,6 +74,7 @@ SAN_WS := $(ROOT)/build/ws-sanitize
 SAN_LOGS := $(SAN_WS)/sanitizer-reports
 SAN_TESTS := test_core_units test_dynamics test_calibration test_lab_cli
 SAN_ENV := ASAN_OPTIONS=exitcode=86:detect_leaks=1:log_path=$(SAN_LOGS)/asan \
+  LSAN_OPTIONS=suppressions=$(ROOT)/test/fuzz/lsan_suppressions.txt \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:log_path=$(SAN_LOGS)/ubsan
 test-sanitize: deps
 	$(call link_package,$(SAN_WS))
@@ -86,6 +88,26 @@ test-sanitize: deps
 	if [ -n "$$(ls -A $(SAN_LOGS))" ]; then \
 	  echo "sanitizer reports:"; cat $(SAN_LOGS)/*; status=1; fi; \
 	exit $$status
+
+# libFuzzer targets for the readers of untrusted files (test/fuzz/, built with clang and ASan +
+# UBSan in build/fuzz, outside the catkin workspace): each runs FUZZ_SECONDS from a seed corpus
+# (the test cube in every mesh format, a small model file), 5 s and 1 GB per input at most, and
+# the target fails on any crash, hang, leak, sanitizer report or unexpected exception; the
+# offending input is kept in build/fuzz/ (crash-*, timeout-*, oom-*).
+FUZZ_DIR := $(ROOT)/build/fuzz
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	cmake -S $(ROOT)/test/fuzz -B $(FUZZ_DIR) -DCMAKE_CXX_COMPILER=clang++ \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo
+	cmake --build $(FUZZ_DIR) $(JOBS)
+	rm -rf $(FUZZ_DIR)/corpus && mkdir -p $(FUZZ_DIR)/corpus/mesh $(FUZZ_DIR)/corpus/model
+	$(FUZZ_DIR)/write_seed_corpus $(FUZZ_DIR)/corpus/mesh $(FUZZ_DIR)/corpus/model
+	for target in mesh_import:mesh model_file:model; do \
+	  LSAN_OPTIONS=suppressions=$(ROOT)/test/fuzz/lsan_suppressions.txt \
+	  $(FUZZ_DIR)/$${target%%:*}_fuzzer -seed=1 -max_total_time=$(FUZZ_SECONDS) -timeout=5 \
+	    -rss_limit_mb=1024 -print_final_stats=1 -artifact_prefix=$(FUZZ_DIR)/ \
+	    $(FUZZ_DIR)/corpus/$${target##*:} || exit 1; \
+	done
 
 # The Bullet comparison is built when libbullet-dev is present (the dependency script installs it).
 bench: build

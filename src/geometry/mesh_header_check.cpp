@@ -202,6 +202,14 @@ std::string CheckStl(std::string_view head, std::uint64_t size, const Limits& li
          declared + ", but the file has " + Str(size) + "); it is truncated or not an STL file";
 }
 
+// CheckPly on the head, then CheckPlyLists on the whole file (read only if the counts fit it).
+std::string CheckWholePly(const std::string& path, const std::string& head, std::uint64_t size,
+                          const Limits& limits) {
+  const std::string problem = CheckPly(head, size, limits);
+  if (!problem.empty()) return problem;
+  return CheckPlyLists(size <= head.size() ? head : ReadHead(path, size));
+}
+
 std::string CheckMeshHeader(const std::string& path, std::uint64_t size, const Limits& limits) {
   const std::string extension = Extension(path);
   if (extension == "gltf") return CheckGltfJson(ReadHead(path, size), 0);
@@ -209,10 +217,10 @@ std::string CheckMeshHeader(const std::string& path, std::uint64_t size, const L
   if (extension == "glb") return CheckGlb(head);
   if (extension == "stl") return CheckStl(head, size, limits);
   if (extension == "off") return CheckOff(head, size, limits);
-  if (extension == "ply") return CheckPly(head, size, limits);
+  if (extension == "ply") return CheckWholePly(path, head, size, limits);
   if (extension == "obj") return "";  // no counts: the file size bounds it
   // Another extension: assimp picks the reader by the first bytes.
-  if (Lowercase(head.substr(0, 3)) == "ply") return CheckPly(head, size, limits);
+  if (Lowercase(head.substr(0, 3)) == "ply") return CheckWholePly(path, head, size, limits);
   if (LooksLikeOff(head)) return CheckOff(head, size, limits);
   if (head.substr(0, 4) == "glTF") return CheckGlb(ReadHead(path, size));
   if (LooksLikeStl(head)) {

@@ -35,6 +35,12 @@ std::string CheckOff(std::string_view head, std::uint64_t size, const Limits& li
 /// the first kHeadBytes is refused: assimp's reader loops forever on one.
 std::string CheckPly(std::string_view head, std::uint64_t size, const Limits& limits);
 
+/// PLY, ascii and binary, after CheckPly: every list's item count (a face's vertex indices)
+/// against the bytes after it. Assimp allocates a list as its count declares: a 500-byte file
+/// whose face declares 4294967295 indices made it allocate 32 GB (found under AddressSanitizer,
+/// which has no address-space cap to turn that into bad_alloc). `file`: the whole file.
+std::string CheckPlyLists(std::string_view file);
+
 /// STL: a binary file must be 84 + 50 n bytes for the n triangles it declares, compared in 64
 /// bits (assimp's format detection compares them in 32 bits, so a wrapped count passes it);
 /// anything else must be ascii ("solid"). The message says which was expected and why it does not

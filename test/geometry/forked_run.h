@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <cstring>
 #include <exception>
+#include <fstream>
 #include <string>
 
 namespace msm_sim::testing {
@@ -23,17 +24,38 @@ namespace msm_sim::testing {
 inline constexpr int kUnexpectedException = 3;
 
 struct ChildRun {
-  bool exited = false;  ///< ended by _exit (not by a signal)
-  int exit_code = -1;   ///< when exited
-  int signal = 0;       ///< when not exited
-  double seconds = 0;   ///< wall time, fork to reaped
-  double max_rss_mb = 0;
+  bool exited = false;        ///< ended by _exit (not by a signal)
+  int exit_code = -1;         ///< when exited
+  int signal = 0;             ///< when not exited
+  double seconds = 0;         ///< wall time, fork to reaped
+  double max_rss_mb = 0;      ///< the child's peak resident memory, what it inherited included
+  double rss_at_fork_mb = 0;  ///< the parent's resident memory when it forked
+
+  /// The resident memory to hold against a bound: the child's peak, or under AddressSanitizer
+  /// what the child added to the parent's pages it started with (by the time the readers' tests
+  /// run, the parent's shadow memory and quarantine are about 740 MB of every child's peak).
+  double bounded_rss_mb() const {
+#ifdef __SANITIZE_ADDRESS__
+    return max_rss_mb - rss_at_fork_mb;
+#else
+    return max_rss_mb;
+#endif
+  }
 
   std::string Describe() const {
     return exited ? "exit " + std::to_string(exit_code)
                   : "signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
   }
 };
+
+/// This process's resident memory (MB, VmRSS), 0 if /proc does not say.
+inline double ResidentMb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  }
+  return 0.0;
+}
 
 /// Runs `body` (returning the exit code) in a forked child; `address_space_bytes` (0: none) limits
 /// its virtual memory (RLIMIT_AS: a large allocation fails with std::bad_alloc instead of
@@ -42,6 +64,7 @@ struct ChildRun {
 /// could need (gtest runs tests on one thread).
 template <typename Body>
 ChildRun RunInChild(Body&& body, std::uint64_t address_space_bytes, unsigned alarm_seconds) {
+  const double rss_at_fork_mb = ResidentMb();
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = fork();
   if (pid == 0) {
@@ -65,6 +88,7 @@ ChildRun RunInChild(Body&& body, std::uint64_t address_space_bytes, unsigned ala
     _exit(code);  // no atexit handlers, no gtest teardown in the child
   }
   ChildRun run;
+  run.rss_at_fork_mb = rss_at_fork_mb;
   if (pid < 0) return run;
   int status = 0;
   rusage usage{};

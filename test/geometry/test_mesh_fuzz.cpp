@@ -175,8 +175,8 @@ TEST(MeshFuzz, DamagedFilesLoadOrAreRefusedWithoutASignal) {
         stats.worst_seconds = run.seconds;
         stats.slowest = name;
       }
-      if (run.max_rss_mb > stats.worst_rss_mb) {
-        stats.worst_rss_mb = run.max_rss_mb;
+      if (run.bounded_rss_mb() > stats.worst_rss_mb) {
+        stats.worst_rss_mb = run.bounded_rss_mb();
         stats.largest = name;
       }
     }

@@ -171,6 +171,34 @@ TEST(MeshHeaderCheck, ImportLimitsGiveOneClearLine) {
       MeshImportError);
 }
 
+// Each list's item count against the bytes after it: assimp allocates what a list declares, and
+// a 500-byte file whose face declares 4294967295 indices made it allocate 32 GB (found by
+// test_mesh_fuzz.cpp under AddressSanitizer, which has no address-space cap to stop it).
+TEST(MeshHeaderCheck, PlyListCountsMustFitTheBytesAfterThem) {
+  const core::TriangleMesh cube = testing::TestCube();
+  const std::string ascii = testing::AsciiPly(cube);
+  const std::string binary = testing::BinaryPly(cube);
+  EXPECT_EQ(mesh_header::CheckPlyLists(ascii), "");
+  EXPECT_EQ(mesh_header::CheckPlyLists(binary), "");
+  const std::string huge = Replace(ascii, "\n3 0 ", "\n4294967295 0 ");
+  EXPECT_NE(mesh_header::CheckPlyLists(huge).find("PLY face 0 declares a list of 4294967295 items"),
+            std::string::npos);
+  const std::string negative = Replace(ascii, "\n3 0 ", "\n-1 0 ");
+  EXPECT_NE(mesh_header::CheckPlyLists(negative).find("a list of 18446744073709551615 items"),
+            std::string::npos);
+  // The last face of the binary cube: 4 indices of 4 bytes where 12 bytes are left.
+  std::string more_indices = binary;
+  more_indices[more_indices.size() - 13] = 4;
+  EXPECT_NE(mesh_header::CheckPlyLists(more_indices).find("PLY face 11 declares a list of 4 items"),
+            std::string::npos);
+  try {
+    ImportTriangleMesh(WriteFile("huge_list.ply", huge));
+    ADD_FAILURE() << "huge_list.ply was imported";
+  } catch (const MeshImportError& e) {
+    EXPECT_NE(std::string(e.what()).find("more than the"), std::string::npos) << e.what();
+  }
+}
+
 // A face line "0" gives a face without vertices, on which assimp's triangulation asserts and
 // aborts the process (found by test_mesh_fuzz.cpp); in a child, so that a regression fails the
 // test rather than ending the test binary.
@@ -223,7 +251,7 @@ TEST(MeshHeaderCheck, HostileHeadersAreRefusedInLittleMemory) {
         },
         std::uint64_t{1} << 30, 30);
     EXPECT_TRUE(run.exited && run.exit_code == 1) << file.name << ": " << run.Describe();
-    EXPECT_LT(run.max_rss_mb, 200) << file.name;
+    EXPECT_LT(run.bounded_rss_mb(), 200) << file.name;
     std::printf("%-18s %s  %.3f s  %.1f MB\n", file.name.c_str(), run.Describe().c_str(),
                 run.seconds, run.max_rss_mb);
   }

@@ -1,0 +1,74 @@
+# The core library's sources (ROS-free: Eigen, CGAL, assimp), for the package's CMakeLists.txt
+# and for the libFuzzer build (test/fuzz/CMakeLists.txt). Set MSM_SIM_DIR to the package root
+# before including.
+set(MSM_SIM_CORE_SOURCES
+  # material
+  ${MSM_SIM_DIR}/src/material/extended_msm.cpp
+  ${MSM_SIM_DIR}/src/material/material.cpp
+  ${MSM_SIM_DIR}/src/material/shore_hardness.cpp
+  ${MSM_SIM_DIR}/src/material/spring_law.cpp
+  # model
+  ${MSM_SIM_DIR}/src/model/body_frame.cpp
+  ${MSM_SIM_DIR}/src/model/binary_file.cpp
+  ${MSM_SIM_DIR}/src/model/model_builder.cpp
+  ${MSM_SIM_DIR}/src/model/model_file.cpp
+  ${MSM_SIM_DIR}/src/model/model_statistics.cpp
+  ${MSM_SIM_DIR}/src/model/model_transform.cpp
+  ${MSM_SIM_DIR}/src/model/node_selection.cpp
+  # build
+  ${MSM_SIM_DIR}/src/build/baudet_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/build/body_recipe.cpp
+  ${MSM_SIM_DIR}/src/build/body_shape.cpp
+  ${MSM_SIM_DIR}/src/build/cubic_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/build/lattice_geometry.cpp
+  ${MSM_SIM_DIR}/src/build/mesh_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/build/node_centred_lattice.cpp
+  ${MSM_SIM_DIR}/src/build/random_lattice_builder.cpp
+  # geometry
+  ${MSM_SIM_DIR}/src/geometry/box_clipping.cpp
+  ${MSM_SIM_DIR}/src/geometry/delaunay.cpp
+  ${MSM_SIM_DIR}/src/geometry/gltf_header_check.cpp
+  ${MSM_SIM_DIR}/src/geometry/mesh_header_check.cpp
+  ${MSM_SIM_DIR}/src/geometry/mesh_import.cpp
+  ${MSM_SIM_DIR}/src/geometry/mesh_primitives.cpp
+  ${MSM_SIM_DIR}/src/geometry/ply_header_check.cpp
+  ${MSM_SIM_DIR}/src/geometry/solid_mesh.cpp
+  ${MSM_SIM_DIR}/src/geometry/spatial_hash_grid.cpp
+  ${MSM_SIM_DIR}/src/geometry/surface_skin.cpp
+  ${MSM_SIM_DIR}/src/geometry/surface_strain.cpp
+  ${MSM_SIM_DIR}/src/geometry/tetrahedralization.cpp
+  ${MSM_SIM_DIR}/src/geometry/triangle_mesh.cpp
+  ${MSM_SIM_DIR}/src/geometry/vtk_export.cpp
+  # mechanics
+  ${MSM_SIM_DIR}/src/mechanics/dof_constraints.cpp
+  ${MSM_SIM_DIR}/src/mechanics/force_evaluator.cpp
+  ${MSM_SIM_DIR}/src/mechanics/force_kernels.cpp
+  ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp
+  ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
+  ${MSM_SIM_DIR}/src/mechanics/spring_schedule.cpp
+  ${MSM_SIM_DIR}/src/mechanics/stable_time_step.cpp
+  ${MSM_SIM_DIR}/src/mechanics/static_solver.cpp
+  # dynamics
+  ${MSM_SIM_DIR}/src/dynamics/border_nodes.cpp
+  ${MSM_SIM_DIR}/src/dynamics/collider.cpp
+  ${MSM_SIM_DIR}/src/dynamics/contact_point_average.cpp
+  ${MSM_SIM_DIR}/src/dynamics/contact_wrench_average.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world_contacts.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world_pair_contacts.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world_implicit.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world_step.cpp
+  # experiments
+  ${MSM_SIM_DIR}/src/experiments/cantilever_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/compression_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/grip_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/hardy_stress.cpp
+  ${MSM_SIM_DIR}/src/experiments/indentation_curve.cpp
+  ${MSM_SIM_DIR}/src/experiments/indentation_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/indentation_fit.cpp
+  ${MSM_SIM_DIR}/src/experiments/indenter.cpp
+  ${MSM_SIM_DIR}/src/experiments/momentum_flow.cpp
+  ${MSM_SIM_DIR}/src/experiments/realtime_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/slide_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/strain_probe.cpp
+)
