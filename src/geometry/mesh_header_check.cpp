@@ -210,16 +210,10 @@ std::string CheckWholePly(const std::string& path, const std::string& head, std:
   return CheckPlyLists(size <= head.size() ? head : ReadHead(path, size));
 }
 
-std::string CheckMeshHeader(const std::string& path, std::uint64_t size, const Limits& limits) {
-  const std::string extension = Extension(path);
-  if (extension == "gltf") return CheckGltfJson(ReadHead(path, size), 0);
-  const std::string head = ReadHead(path, extension == "glb" ? size : kHeadBytes);
-  if (extension == "glb") return CheckGlb(head);
-  if (extension == "stl") return CheckStl(head, size, limits);
-  if (extension == "off") return CheckOff(head, size, limits);
-  if (extension == "ply") return CheckWholePly(path, head, size, limits);
-  if (extension == "obj") return "";  // no counts: the file size bounds it
-  // Another extension: assimp picks the reader by the first bytes.
+// The checks of the reader assimp picks by the first bytes (another extension, or the fallback
+// when the extension's reader refuses the file).
+std::string CheckByContent(const std::string& path, const std::string& head, std::uint64_t size,
+                           const Limits& limits) {
   if (Lowercase(head.substr(0, 3)) == "ply") return CheckWholePly(path, head, size, limits);
   if (LooksLikeOff(head)) return CheckOff(head, size, limits);
   if (head.substr(0, 4) == "glTF") return CheckGlb(ReadHead(path, size));
@@ -228,6 +222,26 @@ std::string CheckMeshHeader(const std::string& path, std::uint64_t size, const L
     return BinaryStlProblem(head, size, limits, &binary);
   }
   return "";
+}
+
+// The checks of the reader the extension names ("" for none).
+std::string CheckByExtension(const std::string& path, const std::string& extension,
+                             const std::string& head, std::uint64_t size, const Limits& limits) {
+  if (extension == "gltf") return CheckGltfJson(ReadHead(path, size), 0);
+  if (extension == "glb") return CheckGlb(ReadHead(path, size));
+  if (extension == "stl") return CheckStl(head, size, limits);
+  if (extension == "off") return CheckOff(head, size, limits);
+  if (extension == "ply") return CheckWholePly(path, head, size, limits);
+  return "";  // obj has no counts (the file size bounds it); others go by content
+}
+
+std::string CheckMeshHeader(const std::string& path, std::uint64_t size, const Limits& limits) {
+  const std::string head = ReadHead(path, kHeadBytes);
+  const std::string problem = CheckByExtension(path, Extension(path), head, size, limits);
+  if (!problem.empty()) return problem;
+  // When the extension's reader refuses a file, assimp tries the others by its first bytes: a
+  // ".gltf" holding a PLY header without its end hung its PLY reader (found by make fuzz).
+  return CheckByContent(path, head, size, limits);
 }
 
 }  // namespace msm_sim::core::mesh_header

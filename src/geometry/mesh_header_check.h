@@ -57,9 +57,10 @@ std::string CheckGltfJson(std::string_view json, std::uint64_t embedded_bytes);
 /// CheckGltfJson on the JSON chunk. `file`: the whole file.
 std::string CheckGlb(std::string_view file);
 
-/// Picks the checks by the extension (stl, off, ply, gltf, glb) or, for any other extension, by
-/// the first bytes ("ply", an OFF keyword, "glTF"), reads what they need of `path` (`size` bytes)
-/// and runs them. Precondition: `path` is a regular file of `size` bytes.
+/// Runs the checks of the extension (stl, off, ply, gltf, glb), then those of the first bytes
+/// ("ply", an OFF keyword, "glTF", an STL): assimp falls back on the reader the content names
+/// when the extension's refuses the file. Reads what they need of `path` (`size` bytes).
+/// Precondition: `path` is a regular file of `size` bytes.
 std::string CheckMeshHeader(const std::string& path, std::uint64_t size, const Limits& limits);
 
 // Shared by the checks.
