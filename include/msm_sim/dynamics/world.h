@@ -297,7 +297,8 @@ class World {
                               double radius, std::vector<NodeContact>* contacts) const;
   /// Up to contact_iterations Gauss-Seidel sweeps taking each contact's approach out of *v.
   void StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Vector3d* v) const;
-  /// Friction into *v, the rebound pending, the impulse recorded. Precondition: stopped > 0.
+  /// Friction into *v (none if `frictionless`: a node being recovered from a deep overlap), the
+  /// rebound pending, the impulse recorded. Precondition: stopped > 0.
   void RespondToColliderContact(Body* body, NodeIndex node, const NodeContact& contact,
                                 bool frictionless, Eigen::Vector3d* v) const;
   /// The impulse a node gave a collider in this substep (normal_impulse N s along -normal,
