@@ -16,8 +16,8 @@
 //   - microcollisions of every border node (its collision sphere, radius = mean half spring
 //     length) against the ground plane, with Coulomb friction, restitution and 8 Gauss-Seidel
 //     contact sweeps; the step's sanity check (speeds, finiteness) and saved state for rollback.
-//   OpenMP: the spring loops may use 2 threads (WorldOptions::threads, set high here), so msm_sim
-//   is timed with 1 and with 2 threads (the "threads" argument); Bullet's soft body is
+//   Threads: the spring passes may use 2 (World::SetThreads, the worker pool), so msm_sim is
+//   timed with 1 and with 2 threads (the "threads" argument); Bullet's soft body is
 //   single-threaded.
 //
 // Bullet (btSoftRigidDynamicsWorld::stepSimulation(dt, 0): exactly one internal step of dt):
@@ -71,7 +71,6 @@
 #include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
 #include <benchmark/benchmark.h>
 #include <btBulletDynamicsCommon.h>
-#include <omp.h>
 
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
@@ -110,13 +109,9 @@ double TopLayerDrop(const Eigen::Matrix3Xd& rest, const std::vector<double>& z_n
 }
 
 // msm_sim exactly as in BM_DynamicsStep12k, settled once and kept for every repetition.
-// The spring passes may use as many threads as OpenMP allows (omp_set_num_threads picks 1 or 2), as
-// the README's figures were measured; a World's default is one.
-WorldOptions ThreadedWorld() {
-  WorldOptions options;
-  options.threads = 64;
-  return options;
-}
+// The spring passes' threads are set per benchmark (World::SetThreads: 1 or 2), as the README's
+// figures were measured; a World's default is one.
+WorldOptions ThreadedWorld() { return WorldOptions{}; }
 
 struct MsmScene {
   MsmScene() : model(Lattice12k()) {
@@ -257,15 +252,13 @@ BulletScene& Bullet() {
 
 void BM_MsmSimStep12k(benchmark::State& state) {
   MsmScene& scene = Msm();
-  const int default_threads = omp_get_max_threads();
-  omp_set_num_threads(static_cast<int>(state.range(0)));
+  scene.world.SetThreads(static_cast<int>(state.range(0)));
   int contacts = 0;
   for (auto _ : state) {
     const StepReport report = scene.world.Step(scene.step);
     contacts = report.microcollisions;
     benchmark::DoNotOptimize(report.accepted);
   }
-  omp_set_num_threads(default_threads);
   const Eigen::Matrix3Xd& x = scene.world.state(scene.body).positions;
   std::vector<double> z(x.cols());
   for (Eigen::Index i = 0; i < x.cols(); ++i) z[i] = x(2, i);

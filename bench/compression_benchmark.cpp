@@ -2,6 +2,7 @@
 // nodes in under 10 s on two cores) and the cost of one force evaluation.
 #include <benchmark/benchmark.h>
 
+#include "bench_threads.h"
 #include "msm_sim/build/baudet_lattice_builder.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/build/random_lattice_builder.h"
@@ -52,7 +53,7 @@ BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 // (beta = 1e-4 s, as in a dynamics step) at random velocities when `damped`.
 void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state,
                           SpringKernels kernels = SpringKernels::kAuto, bool damped = false) {
-  ForceEvaluator evaluator(model, passes, kernels, 64);  // threads: as OpenMP allows
+  ForceEvaluator evaluator(model, passes, kernels, BenchThreads());
   const Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
   const Eigen::Matrix3Xd velocities = 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_nodes());
   Eigen::Matrix3Xd forces(3, model.num_nodes());

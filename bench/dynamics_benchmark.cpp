@@ -4,6 +4,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_threads.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/contact_point_average.h"
 #include "msm_sim/dynamics/world.h"
@@ -22,7 +23,7 @@ void DynamicsStep12k(benchmark::State& state, bool record_contact_points) {
   const auto model = std::make_shared<const Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice));
   WorldOptions world_options;
-  world_options.threads = 64;  // as many as OpenMP allows (OMP_NUM_THREADS), as measured
+  world_options.threads = BenchThreads();  // MSM_SIM_THREADS, else every core, as measured
   world_options.record_contact_points = record_contact_points;
   World world(world_options);
   BodyOptions options;

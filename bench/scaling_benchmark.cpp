@@ -18,6 +18,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bench_threads.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
 
@@ -27,11 +28,11 @@ namespace {
 constexpr double kSpacing = 0.01;  // m
 constexpr int kSettleSteps = 20;   // the bottom layer is in contact from the first step
 
-// The spring passes may use as many threads as OpenMP allows (OMP_NUM_THREADS picks the column), as
-// the README's figures were measured; a World's default is one.
+// The spring passes may use BenchThreads() threads (MSM_SIM_THREADS picks the column), as the
+// README's figures were measured; a World's default is one.
 WorldOptions ThreadedWorld() {
   WorldOptions options;
-  options.threads = 64;
+  options.threads = BenchThreads();
   return options;
 }
 

@@ -48,6 +48,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/spring_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/stable_time_step.cpp
   ${MSM_SIM_DIR}/src/mechanics/static_solver.cpp
+  ${MSM_SIM_DIR}/src/mechanics/worker_pool.cpp
   # dynamics
   ${MSM_SIM_DIR}/src/dynamics/border_nodes.cpp
   ${MSM_SIM_DIR}/src/dynamics/collider.cpp

@@ -206,6 +206,12 @@ void World::SetPairFriction(int body, int collider, double friction) {
   bodies_[body].pair_friction[collider] = friction;
 }
 
+void World::SetThreads(int threads) {
+  Require(threads >= 1, "threads must be >= 1");
+  options_.threads = threads;
+  for (Body& body : bodies_) body.evaluator.set_max_threads(threads);
+}
+
 void World::SetState(int body_index, const State& state) {
   Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
   Body& body = bodies_[body_index];

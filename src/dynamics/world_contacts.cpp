@@ -36,8 +36,15 @@ constexpr double kFrictionlessOverlap = 0.1;
 
 // A collider's frame for detection, computed once per body and substep.
 struct World::ColliderFrame {
-  bool bounded;  // planes are unbounded
-  Eigen::Vector3d lo, hi;
+  bool bounded;            // planes are unbounded
+  Eigen::Vector3d lo, hi;  // bounds in the collider's frame
+  // The bounds' box in the world frame: most border nodes are far from a bounded collider, and
+  // this test skips their transform into its frame (8.7 % of a 4,000-node step went to detection).
+  Eigen::AlignedBox3d world_box;
+  // A plane's normal and offset in the world frame (distance = normal . x - offset): the same
+  // shortcut for the nodes high above the ground.
+  Eigen::Vector3d plane_normal;
+  double plane_offset;
   Eigen::Isometry3d inverse;
 };
 
@@ -164,8 +171,19 @@ void World::RecordColliderImpulse(Body* body, NodeIndex node, int collider,
 std::vector<World::ColliderFrame> World::FrameColliders() const {
   std::vector<ColliderFrame> frames(colliders_.size());
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
-    frames[c].bounded = colliders_[c].shape.Bounds(&frames[c].lo, &frames[c].hi);
-    frames[c].inverse = colliders_[c].pose.inverse();
+    ColliderFrame& frame = frames[c];
+    frame.bounded = colliders_[c].shape.Bounds(&frame.lo, &frame.hi);
+    frame.inverse = colliders_[c].pose.inverse();
+    if (!frame.bounded) {
+      frame.plane_normal = colliders_[c].pose.linear().col(2);
+      frame.plane_offset = frame.plane_normal.dot(colliders_[c].pose.translation());
+      continue;
+    }
+    const Eigen::AlignedBox3d local(frame.lo, frame.hi);
+    for (int corner = 0; corner < 8; ++corner) {
+      frame.world_box.extend(colliders_[c].pose *
+                             local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
+    }
   }
   return frames;
 }
@@ -177,6 +195,11 @@ void World::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     if (!colliders_[c].enabled) continue;
     const ColliderFrame& frame = frames[c];
+    if (frame.bounded ? (x.array() < frame.world_box.min().array() - radius).any() ||
+                            (x.array() > frame.world_box.max().array() + radius).any()
+                      : frame.plane_normal.dot(x) - frame.plane_offset >= radius) {
+      continue;
+    }
     const Eigen::Vector3d local = frame.inverse * x;
     if (frame.bounded && ((local.array() < frame.lo.array() - radius).any() ||
                           (local.array() > frame.hi.array() + radius).any())) {

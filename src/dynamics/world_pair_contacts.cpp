@@ -46,7 +46,34 @@ void World::CollideNodes(int* microcollisions) {
   RecoverFromPairs(pairs);
 }
 
+bool World::MayHaveTouchingPairs() const {
+  // Most scenes hold one body, or bodies apart: the spatial hash of every border node, rebuilt
+  // each substep, was 1.4 % of a 4,000-node step with a single body and nothing to find.
+  for (const Body& body : bodies_) {
+    if (body.options.self_collision) return true;
+  }
+  if (bodies_.size() < 2) return false;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const Body& body : bodies_) {
+    Eigen::AlignedBox3d box;
+    double reach = 0.0;
+    for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
+      box.extend(Eigen::Vector3d(body.state.positions.col(body.border.nodes[k])));
+      reach = std::max(reach, body.border.radii[k]);
+    }
+    if (box.isEmpty()) continue;
+    box.min().array() -= reach;
+    box.max().array() += reach;
+    for (const Eigen::AlignedBox3d& other : boxes) {
+      if (box.intersects(other)) return true;
+    }
+    boxes.push_back(box);
+  }
+  return false;
+}
+
 std::vector<World::PairContact> World::FindTouchingPairs() {
+  if (!MayHaveTouchingPairs()) return {};
   struct Entry {
     int body;
     NodeIndex node;

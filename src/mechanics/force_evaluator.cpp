@@ -5,12 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <memory>
+#include <mutex>
 #include <utility>
 
-#include <omp.h>
-
 #include "mechanics/force_kernels.h"
+#include "mechanics/worker_pool.h"
 
 namespace msm_sim::core {
 
@@ -70,6 +71,8 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, Spri
     }
   }
 }
+
+void ForceEvaluator::set_max_threads(int max_threads) { max_threads_ = std::max(1, max_threads); }
 
 const Eigen::VectorXd& ForceEvaluator::total_tensions() const {
   if (totals_scheduled_) {
@@ -132,24 +135,29 @@ void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&&
 
 template <typename Body>
 void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_size, Body&& body) {
-  const int threads = model_->num_springs() >= kParallelSprings
-                          ? std::max(1, std::min(omp_get_max_threads(), max_threads_))
-                          : 1;
+  WorkerPool& pool = WorkerPool::Shared();
+  const int threads =
+      model_->num_springs() >= kParallelSprings ? std::min(max_threads_, pool.workers() + 1) : 1;
   if (threads <= 1) {
     body(0, count, target);
     return;
   }
   // Each thread takes a fixed, contiguous share of the springs or runs (both ordered by node, so
   // the shares touch mostly different nodes) and scatters into its own buffer; the buffers
-  // are added in thread order, so a given thread count always gives the same sums.
+  // are added in share order, so a given thread count always gives the same sums, whichever
+  // thread runs a share.
   scratch_.resize(threads - 1);
   for (Eigen::VectorXd& buffer : scratch_) buffer.setZero(target_size);
-#pragma omp parallel num_threads(threads)
-  {
-    const int t = omp_get_thread_num();
+  const std::function<void(int)> share = [&](int t) {
     const int begin = static_cast<int>(static_cast<long long>(count) * t / threads);
     const int end = static_cast<int>(static_cast<long long>(count) * (t + 1) / threads);
     body(begin, end, t == 0 ? target : scratch_[t - 1].data());
+  };
+  std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
+  if (lock.owns_lock()) {
+    pool.Run(threads, share);
+  } else {  // another evaluator (another World's thread) has the pool: the same shares, here
+    for (int t = 0; t < threads; ++t) share(t);
   }
   Eigen::Map<Eigen::VectorXd> sum(target, target_size);
   for (const Eigen::VectorXd& buffer : scratch_) sum += buffer;

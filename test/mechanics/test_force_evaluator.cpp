@@ -3,7 +3,6 @@
 #include <vector>
 
 #include <gtest/gtest.h>
-#include <omp.h>
 
 #include "msm_sim/build/baudet_lattice_builder.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
@@ -233,9 +232,10 @@ TEST(ExtendedMsm, DispersionRatioRoundTripsAndMatchesLimits) {
 namespace msm_sim::core {
 namespace {
 
-// Large models may evaluate their springs on two threads, each scattering into its own buffer:
-// the forces and tensions must equal the one-thread evaluation up to rounding, and repeat
-// exactly; by default an evaluator uses one thread.
+// Large models may evaluate their springs on two threads (the worker pool: one worker on a
+// two-core machine), each scattering into its own buffer: the forces and tensions must equal the
+// one-thread evaluation up to rounding, and repeat exactly; by default an evaluator uses one
+// thread.
 TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.2, 0.15);
@@ -246,7 +246,6 @@ TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   for (int i = 0; i < x.cols(); ++i)
     x.col(i) += 1e-4 * Eigen::Vector3d(std::sin(i), std::cos(3.0 * i), std::sin(7.0 * i));
   const Eigen::Matrix3Xd v = 0.01 * x;
-  omp_set_num_threads(2);  // OpenMP allows two; each evaluator's own limit decides
   auto evaluate = [&](int max_threads) {
     ForceEvaluator evaluator = max_threads > 0 ? ForceEvaluator(model, DispersionPasses::kTwoPass,
                                                                 SpringKernels::kAuto, max_threads)
@@ -259,7 +258,6 @@ TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   const auto parallel = evaluate(2);
   const auto again = evaluate(2);
   const auto by_default = evaluate(0);  // WorldOptions::threads' default: one thread
-  omp_set_num_threads(omp_get_num_procs());
   EXPECT_LE((parallel.first - serial.first).cwiseAbs().maxCoeff(),
             1e-12 * serial.first.cwiseAbs().maxCoeff());
   // The dispersed part of a tension sums a node's accumulator in another order: rounding only.

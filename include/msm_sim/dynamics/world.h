@@ -92,6 +92,9 @@ class World {
   /// Coulomb coefficient for a body against a collider, overriding the default
   /// sqrt(mu_body mu_collider).
   void SetPairFriction(int body, int collider, double friction);
+  /// Changes WorldOptions::threads (>= 1) for every body, present and future. Throws
+  /// std::invalid_argument if threads < 1.
+  void SetThreads(int threads);
 
   /// Advances by dt (s, > 0) in equal substeps no longer than the stable step (implicit: no
   /// longer than implicit_max_substep).
@@ -175,7 +178,9 @@ class World {
     double stable_step = 0.0;
     double self_contact_rest_distance_sq = 0.0;  // m^2
     Eigen::VectorXd inverse_masses;
-    double fastest_speed_sq = 0.0;  // during the current Step; infinite if anything is not finite
+    // During the current Step, noted only when a node breaks max_speed or a value is not
+    // finite (then infinite): the fastest node's speed squared, and which node.
+    double fastest_speed_sq = 0.0;
     int fastest_node = 0;
     Eigen::Matrix3Xd saved_positions, saved_velocities;  // to restore a rejected Step
     std::vector<PendingResponse> saved_pending;
@@ -285,6 +290,8 @@ class World {
                        double step_time);
   /// 7. x += h/2 v, noting the fastest node; kinematic nodes at their frames at t0 + h.
   void DriftHalfNotingFastest(Body* body, double h, double t0) const;
+  /// Notes the body's fastest node, or a node with a non-finite value, for CheckSane.
+  static void NoteFastest(Body* body);
 
   // Contacts (world_contacts.cpp). Precondition: the impulses are sized (ClearStepRecords).
   /// Stops every approach of body's free border nodes towards the colliders, with friction.
@@ -322,6 +329,8 @@ class World {
                             const std::vector<NodeContact>& contacts) const;
   /// The touching pairs of border nodes, found with a spatial hash.
   std::vector<PairContact> FindTouchingPairs();
+  /// False when no body may touch itself and no two bodies' border nodes come within reach.
+  bool MayHaveTouchingPairs() const;
   /// Whether nodes i and j of one body may touch: only if it folds (see self_collision).
   static bool MayTouchItself(const Body& body, NodeIndex i, NodeIndex j);
   /// Adds the pair if |d| = |x_i - x_j| (m) is below reach (m) and one of them may move.

@@ -56,13 +56,14 @@ enum class GeometricStiffness {
 /// model.num_nodes() columns and no spring has zero length.
 class ForceEvaluator {
  public:
-  /// `max_threads` (>= 1): the most threads the spring passes of a model with at least 50,000
-  /// springs may use (OpenMP, and no more than omp_get_max_threads()); smaller models use one.
-  /// One by default: on the 2-core development machine two threads made a 12k-node step only
-  /// 1.2-1.4x faster when idle, and 5x slower when other processes kept the cores busy (each
-  /// fork-join waits for a preempted thread), which is where a robot's simulator runs.
+  /// `max_threads` (>= 1): the most threads the spring passes of a model with at least
+  /// kParallelSprings springs may use (the process's worker pool, no more than the hardware
+  /// threads); smaller models use one. One by default: a robot's simulator shares the cores.
   explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
                           SpringKernels kernels = SpringKernels::kAuto, int max_threads = 1);
+
+  /// Changes max_threads (>= 1, as in the constructor).
+  void set_max_threads(int max_threads);
 
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
@@ -109,8 +110,8 @@ class ForceEvaluator {
   };
 
  private:
-  // Models with at least this many springs evaluate them on up to max_threads_ threads
-  // (OpenMP); small models would lose more to the threads' start than they gain.
+  // Models with at least this many springs evaluate them on up to max_threads_ threads; small
+  // models would lose more to waking the threads than they gain.
   static constexpr int kParallelSprings = 50'000;
   /// Runs body(begin, end, scatter_target) over the springs, in fixed per-thread shares for
   /// large models, each thread scattering into its own copy of `target` (summed afterwards).

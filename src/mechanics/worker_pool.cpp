@@ -1,0 +1,94 @@
+#include "mechanics/worker_pool.h"
+
+#include <algorithm>
+
+namespace msm_sim::core {
+namespace {
+
+// A waiting thread yields rather than pauses: on an idle machine yield returns at once (a spin),
+// and when the thread it waits for is runnable on the same core (the other core busy with
+// another process) the scheduler runs that thread now, instead of after this one's time slice.
+inline void Pause() { std::this_thread::yield(); }
+
+}  // namespace
+
+WorkerPool::WorkerPool(int workers)
+    : tickets_(std::make_unique<std::atomic<std::uint64_t>[]>(std::max(workers, 0))) {
+  threads_.reserve(static_cast<std::size_t>(std::max(workers, 0)));
+  for (int w = 0; w < workers; ++w) {
+    tickets_[w].store(0, std::memory_order_relaxed);
+    threads_.emplace_back([this, w] { WorkerLoop(w); });
+  }
+}
+
+WorkerPool::~WorkerPool() {
+  {
+    std::lock_guard<std::mutex> lock(wake_mutex_);
+    stop_.store(true, std::memory_order_release);
+  }
+  wake_.notify_all();
+  for (std::thread& thread : threads_) thread.join();
+}
+
+WorkerPool& WorkerPool::Shared() {
+  static WorkerPool pool(std::max(1, static_cast<int>(std::thread::hardware_concurrency())) - 1);
+  return pool;
+}
+
+void WorkerPool::Run(int shares, const std::function<void(int)>& task) {
+  const int parallel = std::min(shares, workers() + 1);
+  if (parallel > 1) {
+    task_ = &task;
+    pending_.store(parallel - 1, std::memory_order_relaxed);
+    ++runs_;
+    {
+      // The tickets move under the mutex a worker checks them under before it sleeps, so it
+      // cannot miss the notification.
+      std::lock_guard<std::mutex> lock(wake_mutex_);
+      for (int w = 0; w + 1 < parallel; ++w) tickets_[w].store(runs_, std::memory_order_release);
+    }
+    wake_.notify_all();
+  }
+  task(0);
+  for (int share = parallel; share < shares; ++share) task(share);  // more shares than threads
+  if (parallel > 1) WaitUntilDone();
+}
+
+void WorkerPool::WorkerLoop(int index) {
+  std::uint64_t seen = 0;
+  for (;;) {
+    WaitForWork(index, seen);
+    if (stop_.load(std::memory_order_acquire)) return;
+    seen = tickets_[index].load(std::memory_order_acquire);
+    (*task_)(index + 1);
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(done_mutex_);
+      done_.notify_one();
+    }
+  }
+}
+
+bool WorkerPool::HasWork(int index, std::uint64_t seen) const {
+  return tickets_[index].load(std::memory_order_acquire) != seen ||
+         stop_.load(std::memory_order_acquire);
+}
+
+void WorkerPool::WaitForWork(int index, std::uint64_t seen) {
+  for (int i = 0; i < kSpinIterations; ++i) {
+    if (HasWork(index, seen)) return;
+    Pause();
+  }
+  std::unique_lock<std::mutex> lock(wake_mutex_);
+  wake_.wait(lock, [&] { return HasWork(index, seen); });
+}
+
+void WorkerPool::WaitUntilDone() {
+  for (int i = 0; i < kSpinIterations; ++i) {
+    if (pending_.load(std::memory_order_acquire) == 0) return;
+    Pause();
+  }
+  std::unique_lock<std::mutex> lock(done_mutex_);
+  done_.wait(lock, [&] { return pending_.load(std::memory_order_acquire) == 0; });
+}
+
+}  // namespace msm_sim::core

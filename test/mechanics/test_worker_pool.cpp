@@ -1,0 +1,89 @@
+#include "mechanics/worker_pool.h"
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace msm_sim::core {
+namespace {
+
+// Every share of every run is executed exactly once, on as many threads as asked, and Run
+// returns only after all have finished (the counts are read right after each Run).
+TEST(WorkerPool, RunsEveryShareOnceAndWaitsForAll) {
+  WorkerPool pool(3);
+  ASSERT_EQ(pool.workers(), 3);
+  std::vector<std::atomic<int>> counts(4);
+  for (int run = 0; run < 2000; ++run) {
+    const int shares = 1 + run % 4;
+    for (auto& count : counts) count.store(0);
+    std::vector<std::thread::id> ids(4);
+    pool.Run(shares, [&](int share) {
+      ids[share] = std::this_thread::get_id();
+      counts[share].fetch_add(1);
+    });
+    for (int s = 0; s < 4; ++s) ASSERT_EQ(counts[s].load(), s < shares ? 1 : 0) << run;
+    EXPECT_EQ(ids[0], std::this_thread::get_id());  // share 0 runs on the caller
+    for (int s = 1; s < shares; ++s) EXPECT_NE(ids[s], ids[0]);
+  }
+}
+
+// Runs that come after the workers fell asleep (longer than the spin) still wake them.
+TEST(WorkerPool, WakesSleepingWorkers) {
+  WorkerPool pool(1);
+  for (int run = 0; run < 3; ++run) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::atomic<int> done{0};
+    pool.Run(2, [&](int) { done.fetch_add(1); });
+    EXPECT_EQ(done.load(), 2);
+  }
+}
+
+// More shares than threads: the caller runs the ones beyond the workers, after its own.
+TEST(WorkerPool, RunsSharesBeyondTheWorkersOnTheCaller) {
+  for (int workers = 0; workers < 2; ++workers) {
+    WorkerPool pool(workers);
+    std::vector<std::atomic<int>> counts(5);
+    std::vector<std::thread::id> ids(5);
+    pool.Run(5, [&](int share) {
+      ids[share] = std::this_thread::get_id();
+      counts[share].fetch_add(1);
+    });
+    for (int s = 0; s < 5; ++s) {
+      EXPECT_EQ(counts[s].load(), 1) << workers << " workers, share " << s;
+      if (s == 0 || s > workers) {
+        EXPECT_EQ(ids[s], std::this_thread::get_id());
+      }
+    }
+  }
+}
+
+// While one caller runs a task, the pool's busy() mutex is held, so a second caller (another
+// World's thread) sees it taken and runs its shares itself (ForceEvaluator::ForShares).
+TEST(WorkerPool, BusyWhileAnotherCallerRuns) {
+  WorkerPool pool(1);
+  std::atomic<bool> started{false};
+  std::atomic<int> done{0};
+  std::thread other([&] {
+    std::lock_guard<std::mutex> lock(pool.busy());
+    pool.Run(2, [&](int) {
+      started.store(true);
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      done.fetch_add(1);
+    });
+  });
+  while (!started.load()) std::this_thread::yield();
+  std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
+  EXPECT_FALSE(lock.owns_lock());
+  other.join();
+  EXPECT_EQ(done.load(), 2);
+  std::unique_lock<std::mutex> after(pool.busy(), std::try_to_lock);
+  EXPECT_TRUE(after.owns_lock());
+}
+
+}  // namespace
+}  // namespace msm_sim::core
