@@ -60,6 +60,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/dynamics/world_implicit.cpp
   ${MSM_SIM_DIR}/src/dynamics/world_step.cpp
   # experiments
+  ${MSM_SIM_DIR}/src/experiments/calculix_reference.cpp
   ${MSM_SIM_DIR}/src/experiments/cantilever_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/compression_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/grip_experiment.cpp
