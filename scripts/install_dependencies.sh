@@ -22,6 +22,8 @@ packages=(
   libbullet-dev
   # Test set-up: the mesh importer is checked against every model assimp ships.
   assimp-testmodels
+  # Test set-up: the cantilever's finite-element reference (core::RunCalculixCantilever runs ccx).
+  calculix-ccx
   # The robot demo and its check with a real client (rviz on a virtual display).
   ros-robot-state-publisher python3-rospy rviz xvfb imagemagick
 )
