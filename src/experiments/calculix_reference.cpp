@@ -166,21 +166,30 @@ class TemporaryDirectory {
   fs::path path_;
 };
 
-// Why ccx stopped: its last "*ERROR" line, else its last line before the closing banner (a rule
-// of underscores and "Total CalculiX Time"), trimmed.
+// Why ccx stopped: its first "*ERROR" message (the cause; later ones follow from it) with its
+// continuation lines up to the next blank line, else its last line before the closing banner (a
+// rule of underscores and "Total CalculiX Time"); one line, trimmed.
 std::string LastLine(const fs::path& log) {
   std::ifstream in(log);
   std::string line;
   std::string last;
-  std::string last_error;
+  std::string error;
+  bool in_error = false;
   while (std::getline(in, line)) {
     const std::size_t first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '_') continue;
-    if (line.find("Total CalculiX Time") != std::string::npos) continue;
-    last = line.substr(first, line.find_last_not_of(" \t\r") + 1 - first);
-    if (last.rfind("*ERROR", 0) == 0) last_error = last;
+    if (first == std::string::npos) {
+      if (!error.empty()) break;
+      continue;
+    }
+    const std::string text = line.substr(first, line.find_last_not_of(" \t\r") + 1 - first);
+    in_error = in_error || text.rfind("*ERROR", 0) == 0;
+    if (in_error) {
+      error += (error.empty() ? "" : " ") + text;
+    } else if (text[0] != '_' && text.find("Total CalculiX Time") == std::string::npos) {
+      last = text;
+    }
   }
-  if (!last_error.empty()) return last_error;
+  if (!error.empty()) return error;
   return last.empty() ? "no output" : last;
 }
 
@@ -343,7 +352,9 @@ CalculixCantileverResult Profile(const CalculixCantilever& box, const std::vecto
 std::string CalculixCantileverDeck(const CalculixCantilever& box) {
   Validate(box);
   std::ostringstream deck;
-  deck.precision(17);
+  // CalculiX reads at most 20 characters per field: 12 digits keep "-1.23456789012e-100" within
+  // it (and the grid's coordinates to 1e-12 of the box).
+  deck.precision(12);
   deck << "** msm_sim cantilever reference: clamped at x = 0, loaded in -z at x = L\n"
        << "*HEADING\nmsm_sim cantilever " << box.length << " x " << box.width << " x " << box.height
        << " m, C3D8I " << box.elements_x << " x " << box.elements_y << " x " << box.elements_z

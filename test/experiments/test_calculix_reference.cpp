@@ -110,6 +110,34 @@ TEST(CalculixDeck, ConsistentLoadsAndNodeOrder) {
             std::string::npos);
 }
 
+// CalculiX reads at most 20 characters of a field (-2.4999999999999994E-07, a load of a slender
+// bar's deck at 17 digits, stopped it with "*ERROR reading *CLOAD").
+TEST(CalculixDeck, EveryFieldFitsCalculixsTwentyCharacters) {
+  CalculixCantilever box = IssueBox(1.0 / 3.0);
+  box.length = 4.0;
+  box.width = 0.1;
+  box.height = 0.1 / 3.0;
+  box.youngs = 1.0 / 3.0 * 1e5;
+  box.force = 1e-4 / 3.0;
+  box.elements_x = 30;
+  box.elements_y = 7;
+  box.elements_z = 3;
+  std::istringstream lines(CalculixCantileverDeck(box));
+  std::string line;
+  int fields = 0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("**", 0) == 0 || line.rfind("msm_sim", 0) == 0) continue;  // comment, title
+    std::istringstream row(line);
+    std::string field;
+    while (std::getline(row, field, ',')) {
+      field.erase(0, field.find_first_not_of(' '));
+      EXPECT_LE(field.size(), 20u) << line;
+      ++fields;
+    }
+  }
+  EXPECT_GT(fields, 31 * 8 * 4 * 4);  // at least the nodes' fields
+}
+
 TEST(CalculixDeck, BadInputThrowsAClearMessage) {
   const auto message = [](CalculixCantilever box) {
     return MessageOf<std::invalid_argument>([&] { CalculixCantileverDeck(box); });
@@ -184,9 +212,14 @@ TEST_F(CalculixRunFailures, MissingCcxSaysWhatToInstall) {
 
 TEST_F(CalculixRunFailures, FailingCcxReportsItsErrorLine) {
   CalculixCantilever box = IssueBox(0.25);
-  box.executable = Script("failing_ccx", "echo ' *ERROR reading *BOGUS'; echo done; exit 201");
+  // ccx's own layout: the cause, its card on the next line, then the consequence.
+  box.executable = Script("failing_ccx",
+                          "printf ' *ERROR reading *CLOAD. Card image:\\n        201,3,-2\\n\\n'\n"
+                          "printf ' *ERROR in calinput: at least one fatal\\n\\n'\n"
+                          "echo ' Total CalculiX Time: 0.01'; exit 201");
   const std::string message = MessageOf<std::runtime_error>([&] { RunCalculixCantilever(box); });
-  EXPECT_EQ(message, "CalculiX failed (exit code 201): *ERROR reading *BOGUS");
+  EXPECT_EQ(message,
+            "CalculiX failed (exit code 201): *ERROR reading *CLOAD. Card image: 201,3,-2");
   box.executable = Script("silent_ccx", "echo 'Job finished'");
   EXPECT_NE(MessageOf<std::runtime_error>([&] {
               RunCalculixCantilever(box);
