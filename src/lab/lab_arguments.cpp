@@ -150,6 +150,17 @@ void AddStaticCommands(CLI::App* app, CommandLine* line) {
       "deflection", "cantilever clamped at x = 0, force F in -z at x = L (thesis 3.2.6)");
   AddModelOptions(line->deflection, line, Body::kBox);
   line->deflection->add_option("--force", arguments.force, "total end force F (N)")->required();
+  auto* reference =
+      line->deflection
+          ->add_option("--reference", arguments.reference,
+                       "also solve the box by finite elements: calculix (C3D8I; needs ccx)")
+          ->check(CLI::IsMember({"calculix"}));
+  line->deflection
+      ->add_option("--reference-elements", line->reference_elements,
+                   "the reference's mesh NX NY NZ (default 10 x 10 across, >= 40 along x)")
+      ->expected(3)
+      ->check(CLI::Range(1, 1000000))
+      ->needs(reference);
   line->deflection->add_flag("--json", arguments.json, "print one JSON object");
 
   line->sweep = app->add_subcommand(
@@ -322,6 +333,10 @@ LabArguments ParsedArguments(CommandLine* line) {
   if (!size.empty()) arguments.model.size = Eigen::Vector3d(size[0], size[1], size[2]);
   if (!rotate.empty()) {
     arguments.model.rotate = Eigen::Vector4d(rotate[0], rotate[1], rotate[2], rotate[3]);
+  }
+  const std::vector<int>& elements = line->reference_elements;
+  if (!elements.empty()) {
+    arguments.reference_elements = Eigen::Vector3i(elements[0], elements[1], elements[2]);
   }
   return arguments;
 }

@@ -101,8 +101,11 @@ struct HardnessArguments {
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
-  double strain = 0.01;  ///< compression and poisson-sweep
-  double force = 0.0;    ///< deflection only, N
+  double strain = 0.01;   ///< compression and poisson-sweep
+  double force = 0.0;     ///< deflection only, N
+  std::string reference;  ///< deflection: "calculix" adds a finite-element reference, "" none
+  /// deflection --reference: its mesh NX NY NZ; zero: chosen from the size (lab_reference.h)
+  Eigen::Vector3i reference_elements = Eigen::Vector3i::Zero();
   std::vector<double> targets = {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49};  ///< poisson-sweep
   std::string plot;  ///< poisson-sweep and indent: PNG to write, empty for none
   std::string out;   ///< build: model file to write, empty for none

@@ -30,6 +30,7 @@ struct CommandLine {
   std::vector<double> second_size;  // fit --size2
   std::vector<double> rotate;
   std::vector<int> slide_nodes;
+  std::vector<int> reference_elements;  // deflection --reference-elements
   std::vector<double> slide_size;
   CLI::App* compression = nullptr;
   CLI::App* deflection = nullptr;

@@ -1,0 +1,95 @@
+// `msm_lab deflection --reference calculix` through the real executable: the CalculiX reference's
+// keys and line, its mesh, and the errors a user can hit (ccx missing, bad options). Needs
+// calculix-ccx (scripts/install_dependencies.sh).
+
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_lab.h"
+
+namespace {
+
+using msm_sim::testing::CountLines;
+using msm_sim::testing::LabRun;
+using msm_sim::testing::RunLab;
+
+// The issue's box: 0.2 x 0.05 x 0.05 m, E = 120 kPa, 0.05 N; a coarse lattice (a = 12.5 mm).
+const char* kIssueBox =
+    "deflection --model cubic --size 0.2 0.05 0.05 --spacing 0.0125 --youngs 120e3 "
+    "--poisson 0.25 --force 0.05 --reference calculix";
+
+TEST(LabReferenceCli, JsonHasTheReferenceOnTheIssueMesh) {
+  const LabRun run = RunLab(std::string(kIssueBox) + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["reference"], "calculix");
+  EXPECT_EQ(json["reference_elements"], nlohmann::json({40, 10, 10}));
+  // The issue's value for this box and mesh (test_calculix_reference.cpp has both nu).
+  EXPECT_NEAR(json["reference_tip_deflection"].get<double>() / 2.2046e-3, 1.0, 0.005);
+  const auto& profile = json["reference_profile"];
+  ASSERT_EQ(profile.size(), 41u);
+  EXPECT_EQ(profile[0], nlohmann::json({0.0, 0.0}));
+  EXPECT_NEAR(profile[40][0].get<double>(), 0.2, 1e-12);
+  EXPECT_EQ(profile[40][1], json["reference_tip_deflection"]);
+  // The lattice's own results are still there.
+  EXPECT_GT(json["tip_deflection"].get<double>(), 0.0);
+  EXPECT_EQ(json["profile"].size(), 16u);
+  EXPECT_GT(json["reference_seconds"].get<double>(), 0.0);
+}
+
+TEST(LabReferenceCli, TableHasTheReferenceLineAndTheMeshCanBeChosen) {
+  const LabRun run = RunLab(std::string(kIssueBox) + " --reference-elements 8 2 2");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  EXPECT_NE(run.out.find("CalculiX C3D8I   8 x 2 x 2, clamped face x = 0: end-face deflection "),
+            std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("tip deflection"), std::string::npos);
+}
+
+TEST(LabReferenceCli, WithoutReferenceThereAreNoReferenceKeys) {
+  const std::string command(kIssueBox);
+  const LabRun run = RunLab(command.substr(0, command.find(" --reference")) + " --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_FALSE(json.contains("reference_tip_deflection"));
+  EXPECT_FALSE(json.contains("reference_profile"));
+}
+
+struct BadReference {
+  const char* prefix;     // before msm_lab
+  const char* arguments;  // after kIssueBox's command, with or without its --reference
+  int exit_code;
+  const char* mentions;
+};
+
+class LabReferenceBadInput : public ::testing::TestWithParam<BadReference> {};
+
+TEST_P(LabReferenceBadInput, PrintsOneClearErrorLineAndExitCode) {
+  const BadReference& bad = GetParam();
+  const std::string box(kIssueBox);
+  const std::string command = box.substr(0, box.find(" --reference")) + " " + bad.arguments;
+  const LabRun run = msm_sim::testing::RunCommand(std::string(bad.prefix) + " " +
+                                                  MSM_LAB_EXECUTABLE + " " + command);
+  EXPECT_FALSE(run.signalled);
+  EXPECT_EQ(run.exit_code, bad.exit_code) << run.err;
+  EXPECT_EQ(CountLines(run.err), 1) << run.err;
+  EXPECT_EQ(run.err.rfind("msm_lab: error: ", 0), 0u) << run.err;
+  EXPECT_NE(run.err.find(bad.mentions), std::string::npos) << run.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Contract, LabReferenceBadInput,
+                         ::testing::Values(
+                             // ccx not on PATH: the run fails (1) and says what to install.
+                             BadReference{"env PATH=/nonexistent", "--reference calculix", 1,
+                                          "install calculix-ccx (scripts/install_dependencies.sh)"},
+                             BadReference{"", "--reference abaqus", 2, "--reference"},
+                             BadReference{"", "--reference-elements 8 2 2", 2, "--reference"},
+                             BadReference{"", "--reference calculix --reference-elements 0 2 2", 2,
+                                          "--reference-elements"},
+                             BadReference{"",
+                                          "--reference calculix --reference-elements 1000 1000 1",
+                                          2, "more than the limit of 200000"}));
+
+}  // namespace
