@@ -21,7 +21,8 @@ struct LabReference {
 
 /// The reference's box: --size, --youngs, --poisson and --force, clamped on x = 0 and loaded on
 /// x = L. Its mesh is --reference-elements, or 10 x 10 elements across and along x at least 40
-/// and enough that no element is more than twice as long as the section's thinner element side.
+/// and enough that no element is more than twice as long as the section's thinner element side,
+/// up to core::kMaxCalculixElements in all.
 core::CalculixCantilever ReferenceBox(const LabArguments& arguments);
 
 /// Runs the reference --reference asks for; std::nullopt without --reference. Throws what

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "lab_reference.h"
 #include "run_lab.h"
 
 namespace {
@@ -57,6 +58,27 @@ TEST(LabReferenceCli, WithoutReferenceThereAreNoReferenceKeys) {
   EXPECT_FALSE(json.contains("reference_profile"));
 }
 
+// The default mesh: 10 x 10 across, along x at least 40, elements at most twice as long as the
+// thinner side of the section's, at most 500; --reference-elements as given.
+TEST(LabReference, DefaultMeshFollowsTheBarsSlenderness) {
+  const auto elements = [](double length, double width, double height) {
+    msm_sim::lab::LabArguments arguments;
+    arguments.model.size = Eigen::Vector3d(length, width, height);
+    const msm_sim::core::CalculixCantilever box = msm_sim::lab::ReferenceBox(arguments);
+    EXPECT_EQ(box.length, length);
+    return Eigen::Vector3i(box.elements_x, box.elements_y, box.elements_z);
+  };
+  EXPECT_EQ(elements(0.2, 0.05, 0.05), Eigen::Vector3i(40, 10, 10));
+  EXPECT_EQ(elements(1.0, 1.0, 1.0), Eigen::Vector3i(40, 10, 10));
+  EXPECT_EQ(elements(4.0, 0.2, 0.3), Eigen::Vector3i(100, 10, 10));
+  EXPECT_EQ(elements(10.0, 0.01, 0.01), Eigen::Vector3i(500, 10, 10));
+  msm_sim::lab::LabArguments arguments;
+  arguments.reference_elements = Eigen::Vector3i(8, 3, 2);
+  const msm_sim::core::CalculixCantilever box = msm_sim::lab::ReferenceBox(arguments);
+  EXPECT_EQ(Eigen::Vector3i(box.elements_x, box.elements_y, box.elements_z),
+            arguments.reference_elements);
+}
+
 struct BadReference {
   const char* prefix;     // before msm_lab
   const char* arguments;  // after kIssueBox's command, with or without its --reference
@@ -90,6 +112,6 @@ INSTANTIATE_TEST_SUITE_P(Contract, LabReferenceBadInput,
                                           "--reference-elements"},
                              BadReference{"",
                                           "--reference calculix --reference-elements 1000 1000 1",
-                                          2, "more than the limit of 200000"}));
+                                          2, "more than the limit of 50000"}));
 
 }  // namespace
