@@ -83,6 +83,42 @@ inline __attribute__((always_inline)) void RunTensions(const ScheduledSprings& s
   }
 }
 
+// RunTensions (without dampers) and ApplyToEnds in one loop, for runs whose offset is at least
+// kFusedMinOffset: iteration i then writes node a0 + offset + i, which iteration i + offset
+// reads again, so vectors of up to that many lanes never hold both (safelen), and the per-spring
+// force vectors need not go through memory. The eMSM second pass gained 4 % on the 12k block;
+// the damped plain pass, fused the same way, was not vectorised and ran 2x slower.
+constexpr int kFusedMinOffset = 4;
+
+template <typename Tension>
+inline __attribute__((always_inline)) void FusedRunTensions(const SpringRun& run,
+                                                            const NodeArrays& positions,
+                                                            Tension&& tension,
+                                                            double* __restrict total,
+                                                            const MutableNodeArrays& forces) {
+  const double* __restrict px = positions.x + run.a0;
+  const double* __restrict py = positions.y + run.a0;
+  const double* __restrict pz = positions.z + run.a0;
+  double* fx = forces.x + run.a0;
+  double* fy = forces.y + run.a0;
+  double* fz = forces.z + run.a0;
+  const int d = run.offset;
+#pragma omp simd safelen(kFusedMinOffset)
+  for (int i = 0; i < run.count; ++i) {
+    const double r[3] = {px[i + d] - px[i], py[i + d] - py[i], pz[i + d] - pz[i]};
+    double inverse_length;
+    const double t = tension(i, r, &inverse_length);
+    total[run.first + i] = t;
+    const double scale = t * inverse_length;
+    fx[i] += scale * r[0];
+    fy[i] += scale * r[1];
+    fz[i] += scale * r[2];
+    fx[i + d] -= scale * r[0];
+    fy[i + d] -= scale * r[1];
+    fz[i + d] -= scale * r[2];
+  }
+}
+
 template <bool Damped>
 inline __attribute__((always_inline)) void PlainRunsImpl(
     const ScheduledSprings& springs, int run_begin, int run_end, const NodeArrays& positions,
@@ -123,8 +159,12 @@ inline __attribute__((always_inline)) void OutflowRunsImpl(
       *inverse_length = inverse[i];
       return t[i] + out_a[i] * ga[i] + out_b[i] * gb[i];
     };
-    RunTensions<false>(springs, run, positions, RunDamping{nullptr, 0.0}, tension, total, &c);
-    ApplyToEnds(run, c, forces);
+    if (run.offset >= kFusedMinOffset) {
+      FusedRunTensions(run, positions, tension, total, forces);
+    } else {
+      RunTensions<false>(springs, run, positions, RunDamping{nullptr, 0.0}, tension, total, &c);
+      ApplyToEnds(run, c, forces);
+    }
   }
 }
 
