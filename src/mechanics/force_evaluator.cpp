@@ -135,9 +135,10 @@ void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&&
 
 template <typename Body>
 void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_size, Body&& body) {
-  WorkerPool& pool = WorkerPool::Shared();
-  const int threads =
-      model_->num_springs() >= kParallelSprings ? std::min(max_threads_, pool.workers() + 1) : 1;
+  // The pool's thread starts only when a model may use it: a one-thread world starts none.
+  const bool parallel = model_->num_springs() >= kParallelSprings && max_threads_ > 1;
+  WorkerPool* pool = parallel ? &WorkerPool::Shared() : nullptr;
+  const int threads = parallel ? std::min(max_threads_, pool->workers() + 1) : 1;
   if (threads <= 1) {
     body(0, count, target);
     return;
@@ -153,9 +154,9 @@ void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_si
     const int end = static_cast<int>(static_cast<long long>(count) * (t + 1) / threads);
     body(begin, end, t == 0 ? target : scratch_[t - 1].data());
   };
-  std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
+  std::unique_lock<std::mutex> lock(pool->busy(), std::try_to_lock);
   if (lock.owns_lock()) {
-    pool.Run(threads, share);
+    pool->Run(threads, share);
   } else {  // another evaluator (another World's thread) has the pool: the same shares, here
     for (int t = 0; t < threads; ++t) share(t);
   }

@@ -8,7 +8,7 @@ namespace {
 // A waiting thread yields rather than pauses: on an idle machine yield returns at once (a spin),
 // and when the thread it waits for is runnable on the same core (the other core busy with
 // another process) the scheduler runs that thread now, instead of after this one's time slice.
-inline void Pause() { std::this_thread::yield(); }
+inline void LetOthersRun() { std::this_thread::yield(); }
 
 }  // namespace
 
@@ -76,7 +76,7 @@ bool WorkerPool::HasWork(int index, std::uint64_t seen) const {
 void WorkerPool::WaitForWork(int index, std::uint64_t seen) {
   for (int i = 0; i < kSpinIterations; ++i) {
     if (HasWork(index, seen)) return;
-    Pause();
+    LetOthersRun();
   }
   std::unique_lock<std::mutex> lock(wake_mutex_);
   wake_.wait(lock, [&] { return HasWork(index, seen); });
@@ -85,7 +85,7 @@ void WorkerPool::WaitForWork(int index, std::uint64_t seen) {
 void WorkerPool::WaitUntilDone() {
   for (int i = 0; i < kSpinIterations; ++i) {
     if (pending_.load(std::memory_order_acquire) == 0) return;
-    Pause();
+    LetOthersRun();
   }
   std::unique_lock<std::mutex> lock(done_mutex_);
   done_.wait(lock, [&] { return pending_.load(std::memory_order_acquire) == 0; });
