@@ -20,6 +20,8 @@ namespace {
 constexpr std::array<LatticeKind, 3> kLatticeKinds = {LatticeKind::kCubic, LatticeKind::kRandom,
                                                       LatticeKind::kBaudet};
 
+bool AntiAliasesTheBox(const BodyRecipe& recipe);
+
 void Validate(const BodyRecipe& recipe) {
   if (recipe.solid && (recipe.lattice == LatticeKind::kBaudet ||
                        recipe.construction == CubicConstruction::kElementCorner)) {
@@ -30,6 +32,14 @@ void Validate(const BodyRecipe& recipe) {
   }
   if (recipe.solid && recipe.centre_box) {
     throw std::invalid_argument("centre_box moves a box region; a solid stays in its own frame");
+  }
+  if (!recipe.anchored_planes.empty() &&
+      (recipe.solid || recipe.lattice != LatticeKind::kCubic ||
+       recipe.construction != CubicConstruction::kNodeCentred || AntiAliasesTheBox(recipe))) {
+    // Face anchors are built by the node-centred box builder only (BuildCubicLattice).
+    throw std::invalid_argument(
+        "anchored planes (face clamps) need a node-centred cubic lattice in a box, not rotated "
+        "through the anti-aliased solid");
   }
   if (recipe.target_nodes < 0) throw std::invalid_argument("target_nodes must be >= 0");
   if (!(recipe.target_volume >= 0.0)) throw std::invalid_argument("target_volume must be >= 0");
@@ -101,6 +111,7 @@ Model BuildCubicInBox(const BodyRecipe& recipe, double spacing) {
   options.spring_law = recipe.spring_law;
   options.rotation_axis = recipe.rotation_axis;
   options.rotation_angle = recipe.rotation_angle;
+  options.anchored_planes = recipe.anchored_planes;
   return BuildCubicLattice(recipe.material, options);
 }
 

@@ -47,7 +47,8 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
     }
   }
   if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
-  return BuildNodeCentredModel(material, cells, options.compensate_surface, options.spring_law);
+  return BuildNodeCentredModel(material, cells, options.compensate_surface, options.spring_law,
+                               options.anchored_planes);
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {
@@ -101,9 +102,29 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
 
 Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& options) {
   Validate(Box(options));
+  for (const AnchoredPlane& plane : options.anchored_planes) {
+    if (!plane.point.allFinite() || !plane.normal.allFinite() || plane.normal.norm() == 0.0) {
+      throw std::invalid_argument("an anchored plane needs a finite point and a non-zero normal");
+    }
+  }
+  if (!options.anchored_planes.empty() && options.construction != CubicConstruction::kNodeCentred) {
+    // Element-corner nodes already lie on the surface: freezing them clamps the face.
+    throw std::invalid_argument("anchored planes need the node-centred construction");
+  }
   return options.construction == CubicConstruction::kNodeCentred
              ? BuildNodeCentred(material, options)
              : BuildElementCorner(material, options);
+}
+
+std::vector<NodeIndex> AnchorNodes(const Model& model, const AnchoredPlane& plane) {
+  const Eigen::Vector3d n = plane.normal.normalized();
+  const double tolerance = 1e-9 * model.characteristic_length();
+  std::vector<NodeIndex> nodes;
+  const auto& rest = model.rest_positions();
+  for (int i = 0; i < rest.cols(); ++i) {
+    if (std::abs((rest.col(i) - plane.point).dot(n)) <= tolerance) nodes.push_back(i);
+  }
+  return nodes;
 }
 
 }  // namespace msm_sim::core

@@ -1,5 +1,8 @@
 #include "build/node_centred_lattice.h"
 
+#include <cmath>
+#include <map>
+#include <tuple>
 #include <vector>
 
 #include "msm_sim/material/extended_msm.h"
@@ -50,10 +53,79 @@ std::vector<SpringIndex> AddHalfOffsetSprings(const OccupiedCells& cells, const 
   return spring_of;
 }
 
+// The fraction t in (0, 1] of the way from `from` to `to` at which the segment leaves the body
+// through one of `anchored`, or 0 if it leaves through none (the first plane crossed counts).
+double AnchoredCrossing(const std::vector<AnchoredPlane>& anchored, const Eigen::Vector3d& from,
+                        const Eigen::Vector3d& to) {
+  double t_first = 0.0;
+  for (const AnchoredPlane& plane : anchored) {
+    const Eigen::Vector3d n = plane.normal.normalized();
+    const double s_from = (from - plane.point).dot(n);
+    const double s_to = (to - plane.point).dot(n);
+    if (s_from > 0.0 || s_to <= 0.0) continue;  // not leaving the body through this plane
+    const double t = s_from / (s_from - s_to);
+    if (t_first == 0.0 || t < t_first) t_first = std::max(t, 1e-9);
+  }
+  return t_first;
+}
+
+// True if node + d is a missing neighbour whose spring would leave through an anchored plane.
+bool IsAnchored(const OccupiedCells& cells, const LatticeIndex& index,
+                const std::vector<AnchoredPlane>& anchored, int node, const Eigen::Vector3i& d) {
+  if (anchored.empty() || index.Find(cells.coords[node] + d) >= 0) return false;
+  return AnchoredCrossing(anchored, cells.frame.Position(cells.coords[node]),
+                          cells.frame.Position(cells.coords[node] + d)) > 0.0;
+}
+
+// For every node whose neighbour i + d is missing across an anchored plane: a fixed node where the
+// spring meets the plane (shared by the springs that meet there) and a spring to it standing for
+// node i's half of the missing spring. Its rest length is t L0, so k = half / t^2 keeps
+// k L^2 = half L0^2: under any uniform strain it stores what node i's half-spring would (at
+// t = 1/2, k = 4 half: the inner half of a spring is twice as stiff as the whole). Node i counts
+// it with v = 2 (share: all of it) so that w = v k L^2 = 2 half L0^2, the weight the bulk spring
+// has in node i's star, and the anchor end disperses nothing (share 0, v = 0): the fixed anchor is
+// not material, so node i's star, inflow and dispersed tension match a bulk node's.
+void AddFaceAnchors(const OccupiedCells& cells, const LatticeIndex& index,
+                    const std::vector<AnchoredPlane>& anchored, double kappa, bool compensate,
+                    double anchor_mass, ModelBuilder* builder, EndShares* shares) {
+  const double a = cells.frame.unit;
+  std::map<std::tuple<long, long, long>, NodeIndex> anchor_at;  // by position in 1e-6 a
+  const int n = static_cast<int>(cells.coords.size());
+  for (int node = 0; node < n; ++node) {
+    const Eigen::Vector3d p = cells.frame.Position(cells.coords[node]);
+    for (int o = 0; o < kNumHalfOffsets; ++o) {
+      for (const int sign : {1, -1}) {
+        const Eigen::Vector3i d = sign * kHalfOffsets[o];
+        if (!IsAnchored(cells, index, anchored, node, d)) continue;
+        const Eigen::Vector3d q = cells.frame.Position(cells.coords[node] + d);
+        const double t = AnchoredCrossing(anchored, p, q);
+        const Eigen::Vector3d point = p + t * (q - p);
+        const auto key = std::make_tuple(std::lround(point.x() / (1e-6 * a)),
+                                         std::lround(point.y() / (1e-6 * a)),
+                                         std::lround(point.z() / (1e-6 * a)));
+        auto found = anchor_at.find(key);
+        if (found == anchor_at.end()) {
+          found = anchor_at.emplace(key, builder->AddNode(point, anchor_mass)).first;
+        }
+        // With compensate_surface, a missing (not anchored) neighbour on the other side, i - d,
+        // mirrors its half-spring onto this one, as onto any collinear spring.
+        const bool mirrored = compensate && index.Find(cells.coords[node] - d) < 0 &&
+                              !IsAnchored(cells, index, anchored, node, -d);
+        const double half = 0.5 * kappa * cells.fractions[node] * (mirrored ? 2.0 : 1.0);
+        builder->AddSpring(node, found->second, half / (t * t));
+        shares->a.push_back(half / (t * t));
+        shares->b.push_back(0.0);
+      }
+    }
+  }
+}
+
 // A node whose neighbour i + d is missing loses the half-spring its own cell would have
 // contributed along d; it goes onto the collinear spring (i, i - d) of the same node.
+// Neighbours across an anchored plane are left to AddFaceAnchors.
 void MirrorMissingHalfSprings(const OccupiedCells& cells, const LatticeIndex& index, double kappa,
-                              const std::vector<SpringIndex>& spring_of, ModelBuilder* builder,
+                              const std::vector<SpringIndex>& spring_of,
+                              const std::vector<AnchoredPlane>& anchored, ModelBuilder* builder,
                               EndShares* shares) {
   const int n = static_cast<int>(cells.coords.size());
   for (int node = 0; node < n; ++node) {
@@ -62,8 +134,10 @@ void MirrorMissingHalfSprings(const OccupiedCells& cells, const LatticeIndex& in
       for (const int sign : {1, -1}) {
         const Eigen::Vector3i d = sign * kHalfOffsets[o];
         if (index.Find(cells.coords[node] + d) >= 0) continue;  // neighbour present
+        if (IsAnchored(cells, index, anchored, node, d)) continue;
         const int opposite = index.Find(cells.coords[node] - d);
-        if (opposite < 0) continue;  // one cell thick along d: nothing to carry it
+        // One cell thick along d: nothing to carry it; or i - d is anchored: AddFaceAnchors.
+        if (opposite < 0) continue;
         // Spring (node, node - d): stored at the endpoint from which it points along +offset.
         const SpringIndex s = sign > 0 ? spring_of[opposite * kNumHalfOffsets + o]
                                        : spring_of[node * kNumHalfOffsets + o];
@@ -77,7 +151,8 @@ void MirrorMissingHalfSprings(const OccupiedCells& cells, const LatticeIndex& in
 // In node i's star a spring stands for the stiffness end i contributed to it. Its tension
 // k dL is shared by the ends in proportion: weight v = 2 share / (share_a + share_b), so each
 // end counts its own share (and receives that share of the dispersion, w = v k L0^2). With
-// full cells and no mirrored half-springs every v is 1: the eMSM paper's algorithm.
+// full cells and no mirrored half-springs every v is 1: the eMSM paper's algorithm. An anchor
+// spring's anchor end has share 0: v = 0 there, 2 at the node.
 void SetDispersionWeightsFromShares(const EndShares& shares, ModelBuilder* builder) {
   for (SpringIndex s = 0; s < builder->num_springs(); ++s) {
     const double total = shares.a[s] + shares.b[s];
@@ -89,7 +164,8 @@ void SetDispersionWeightsFromShares(const EndShares& shares, ModelBuilder* build
 }  // namespace
 
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            bool compensate_surface, SpringLaw spring_law) {
+                            bool compensate_surface, SpringLaw spring_law,
+                            const std::vector<AnchoredPlane>& anchored) {
   const double a = cells.frame.unit;
   const double kappa = material.shear_modulus() * a;
   const double cell_mass = material.density() * a * a * a;
@@ -102,8 +178,10 @@ Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells
   const std::vector<SpringIndex> spring_of =
       AddHalfOffsetSprings(cells, index, kappa, &builder, &shares);
   if (compensate_surface) {
-    MirrorMissingHalfSprings(cells, index, kappa, spring_of, &builder, &shares);
+    MirrorMissingHalfSprings(cells, index, kappa, spring_of, anchored, &builder, &shares);
   }
+  AddFaceAnchors(cells, index, anchored, kappa, compensate_surface, 1e-6 * cell_mass, &builder,
+                 &shares);
   SetDispersionWeightsFromShares(shares, &builder);
   return builder.Build(occupied * a * a * a, a);
 }

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "build/lattice_geometry.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/material/material.h"
 #include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
@@ -28,8 +29,12 @@ struct OccupiedCells {
 /// half of the spring that lies in it, weighted by how much of that cell is body), eMSM
 /// dispersion fraction q(nu), and, if compensate_surface, the missing half-springs of surface
 /// cells mirrored onto the opposite spring of the same node (see BuildCubicLattice). The model
-/// volume is a^3 sum chi. Precondition: coords non-empty and unique, fractions in (0, 1].
+/// volume is a^3 sum chi. A missing neighbour across one of `anchored` (positions in the frame's
+/// coordinates) gets a face anchor instead of the mirrored half-spring (AnchoredPlane,
+/// docs/physics.md §2.1 "Face anchors"), whether or not compensate_surface is set.
+/// Precondition: coords non-empty and unique, fractions in (0, 1], anchored normals non-zero.
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            bool compensate_surface, SpringLaw spring_law);
+                            bool compensate_surface, SpringLaw spring_law,
+                            const std::vector<AnchoredPlane>& anchored = {});
 
 }  // namespace msm_sim::core::lattice

@@ -63,6 +63,8 @@ std::string Str(double value) {
 }
 
 bool Positive(double value) { return std::isfinite(value) && value > 0.0; }
+// Dispersion weights may be 0: a face anchor's fixed end disperses nothing (AnchoredPlane).
+bool NonNegative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 // --- Saving: every record is encoded at its layout's offsets, then appended whole ------
 
@@ -283,11 +285,11 @@ std::vector<double> ReadSprings(HashingFileReader& file, const Header& header,
                      " but the model has " + std::to_string(header.nodes) + " nodes");
     }
     if (a == b) Fail(path, spring + " joins node " + std::to_string(a) + " to itself");
-    if (!Positive(stiffness) || !Positive(rest_length) || !Positive(weight_a) ||
-        !Positive(weight_b)) {
+    if (!Positive(stiffness) || !Positive(rest_length) || !NonNegative(weight_a) ||
+        !NonNegative(weight_b)) {
       Fail(path, spring + " has stiffness " + Str(stiffness) + ", rest length " + Str(rest_length) +
                      ", dispersion weights " + Str(weight_a) + " and " + Str(weight_b) +
-                     " (all must be finite and > 0)");
+                     " (all must be finite, stiffness and rest length > 0, weights >= 0)");
     }
     try {
       builder->AddSpring(static_cast<NodeIndex>(a), static_cast<NodeIndex>(b), stiffness);

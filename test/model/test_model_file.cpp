@@ -378,7 +378,7 @@ TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
                   "spring 0 joins node 1000000 to node");
   EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, springs_offset + 8, -1.0); }),
                   "spring 0 has stiffness -1");
-  EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, springs_offset + 32, 0.0); }),
+  EXPECT_CONTAINS(edit([&](Bytes* b) { PutF64(b, springs_offset + 32, -1.0); }),
                   "dispersion weights");
   // Spring 0's nodes moved onto each other: the builder's own check, wrapped into one line.
   EXPECT_CONTAINS(edit([&](Bytes* b) {

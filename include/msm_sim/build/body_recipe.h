@@ -87,6 +87,10 @@ struct BodyRecipe {
   /// as a solid): docs/physics.md §5 anti-aliasing (cells weighted by the fraction inside the
   /// surface). Default on.
   bool antialias = true;
+  /// Node-centred cubic lattice in a box (not rotated through the anti-aliased solid): surface
+  /// planes held by face anchors (AnchoredPlane, AnchorNodes), in the box's frame [0, box_size]
+  /// (centre_box then moves the anchors with the body). Default none; refused for other lattices.
+  std::vector<AnchoredPlane> anchored_planes;
   /// Random: the random sequential addition's seed; same seed, same model. Default 1.
   std::uint64_t seed = 1;
   /// Random: minL and maxL as multiples of l, 0 < min < max. Defaults 0.8 and 1.9 (what both

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "msm_sim/material/material.h"
@@ -18,6 +20,17 @@ enum class CubicConstruction {
   kElementCorner,
 };
 
+/// A plane of the body's surface that a clamp holds fixed (docs/physics.md §2.1 "Face anchors"):
+/// the body lies behind it, (x - point) . normal <= 0. Node-centred lattices put their outer
+/// nodes half a cell inside the surface; a node whose neighbour across this plane is missing gets,
+/// instead of the mirrored half-spring, an anchor: a fixed node where the missing spring meets the
+/// plane, joined by the part of that spring inside the body. Freezing the anchors (and only them)
+/// then clamps the surface itself, as a finite-element model clamps a face.
+struct AnchoredPlane {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();     ///< m, any point of the plane
+  Eigen::Vector3d normal = -Eigen::Vector3d::UnitX();  ///< outward; non-zero
+};
+
 /// A box [0, size] filled with a cubic lattice of spacing `spacing`, optionally rotated about the
 /// box centre by `rotation_angle` (rad) about `rotation_axis`.
 struct CubicLatticeOptions {
@@ -28,6 +41,10 @@ struct CubicLatticeOptions {
   double rotation_angle = 0.0;                               ///< rad
   /// Node-centred only: restore the springs the surface layer misses (see BuildCubicLattice).
   bool compensate_surface = true;
+  /// Node-centred only: surface planes held by anchors (see AnchoredPlane). The anchors are added
+  /// after the lattice's nodes, on their planes; the caller must freeze them (AnchorNodes): their
+  /// mass is a token 1e-6 of a cell's, and a free anchor would make the dynamics stiff.
+  std::vector<AnchoredPlane> anchored_planes;
   SpringLaw spring_law = SpringLaw::kLinear;
   /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs
   /// several kB per node).
@@ -54,5 +71,11 @@ struct CubicLatticeOptions {
 /// Throws std::invalid_argument on non-positive or non-finite sizes or spacing, a spacing larger
 /// than the smallest box edge, a zero rotation axis, or more than max_nodes nodes.
 Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& options);
+
+/// The nodes of `model` that lie on `plane` (within 1e-9 of the characteristic length): the
+/// anchors a builder put there. Precondition: no lattice node of the model lies on the plane
+/// itself (true when the plane is a face of the box and the lattice is not rotated, the nodes
+/// being half a cell inside). Precondition: plane.normal != 0.
+std::vector<NodeIndex> AnchorNodes(const Model& model, const AnchoredPlane& plane);
 
 }  // namespace msm_sim::core

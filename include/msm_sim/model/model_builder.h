@@ -25,7 +25,8 @@ class ModelBuilder {
   /// Adds `extra` (N/m) to an existing spring's stiffness.
   void AddStiffness(SpringIndex spring, double extra);
   /// Sets the eMSM dispersion weight of `spring` at its end `node` (starts at 1; see
-  /// Model::dispersion_weight_a). Precondition: node is one of the spring's ends; weight > 0.
+  /// Model::dispersion_weight_a). Precondition: node is one of the spring's ends; weight >= 0
+  /// (0: that end neither collects nor receives dispersion, as at a fixed face anchor).
   void SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight);
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
