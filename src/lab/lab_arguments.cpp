@@ -150,6 +150,11 @@ void AddStaticCommands(CLI::App* app, CommandLine* line) {
       "deflection", "cantilever clamped at x = 0, force F in -z at x = L (thesis 3.2.6)");
   AddModelOptions(line->deflection, line, Body::kBox);
   line->deflection->add_option("--force", arguments.force, "total end force F (N)")->required();
+  line->deflection
+      ->add_option("--ends", arguments.ends,
+                   "faces: clamp the face x = 0 and load the face x = L (node-centred cubic); "
+                   "layers: the first and last node layers (default: faces where possible)")
+      ->check(CLI::IsMember({"faces", "layers"}));
   auto* reference =
       line->deflection
           ->add_option("--reference", arguments.reference,

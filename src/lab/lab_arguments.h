@@ -101,8 +101,12 @@ struct HardnessArguments {
 struct LabArguments {
   LabCommand command = LabCommand::kCompression;
   ModelArguments model;
-  double strain = 0.01;   ///< compression and poisson-sweep
-  double force = 0.0;     ///< deflection only, N
+  double strain = 0.01;  ///< compression and poisson-sweep
+  double force = 0.0;    ///< deflection only, N
+  /// deflection: "faces" (clamp the face x = 0 by anchors, load the face x = L), "layers" (the
+  /// thesis' frozen and loaded node layers) or "" (faces for an unrotated node-centred cubic
+  /// lattice, the only one anchors are built for; layers otherwise)
+  std::string ends;
   std::string reference;  ///< deflection: "calculix" adds a finite-element reference, "" none
   /// deflection --reference: its mesh NX NY NZ; zero: chosen from the size (lab_reference.h)
   Eigen::Vector3i reference_elements = Eigen::Vector3i::Zero();

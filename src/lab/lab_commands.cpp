@@ -163,10 +163,47 @@ int RunPoissonSweep(const LabArguments& arguments, std::ostream& out, std::ostre
   return 0;
 }
 
+// True if the cantilever is clamped and loaded at its faces: asked for, or by default wherever
+// face anchors can be built (an unrotated node-centred cubic lattice in the box).
+bool DeflectionAtFaces(const LabArguments& arguments) {
+  if (!arguments.ends.empty()) return arguments.ends == "faces";
+  const ModelArguments& model = arguments.model;
+  return model.model == "cubic" && model.construction == "node" && !model.rotate;
+}
+
+// The text report of RunDeflection.
+void PrintDeflection(const LabArguments& arguments, const core::ModelStatistics& stats, bool faces,
+                     const core::CantileverExperimentResult& result,
+                     const std::optional<LabReference>& reference, double seconds,
+                     std::ostream& out) {
+  out << "cantilever, clamped at x = 0, force " << arguments.force << " N in -z at the end ("
+      << (faces ? "faces" : "node layers") << ")\n";
+  PrintModelTable(arguments.model, stats, out);
+  out << std::setprecision(5) << "beam length      " << result.beam_length
+      << (faces ? " m (the body's length)\n\n" : " m (frozen layer to loaded layer)\n\n")
+      << "       x [m]   deflection [m]   Euler-Bernoulli [m]\n";
+  for (const core::DeflectionSample& sample : result.profile) {
+    out << std::setw(12) << sample.x << "  " << std::setw(15) << sample.deflection << "  "
+        << std::setw(18) << sample.theory << "\n";
+  }
+  out << "\ntip deflection   " << result.tip_deflection << " m, theory "
+      << result.theory_tip_deflection << " m ("
+      << 100.0 * (result.tip_deflection / result.theory_tip_deflection - 1.0) << " %)\n"
+      << "end face         " << result.end_face_deflection << " m (x = L, extrapolated; "
+      << 100.0 * (result.end_face_deflection / result.theory_tip_deflection - 1.0)
+      << " % from the theory at L)\n";
+  if (reference) PrintReference(*reference, result.end_face_deflection, out);
+  out << "solver: " << result.solver.message << "\n"
+      << "time: " << seconds << " s\n";
+}
+
 int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
   CheckStaticDispersion(arguments.model.dispersion);
   const auto start = std::chrono::steady_clock::now();
-  const core::Model model = BuildLabModel(arguments.model, LoadLabBody(arguments.model, true));
+  const bool faces = DeflectionAtFaces(arguments);
+  core::BodyRecipe recipe = LabRecipe(arguments.model, LoadLabBody(arguments.model, true));
+  if (faces) recipe.anchored_planes.push_back(core::AnchoredPlane{});  // the face x = 0
+  const core::Model model = core::BuildModel(recipe);
   const core::ModelStatistics stats = core::ComputeModelStatistics(model);
   const double build_seconds = Seconds(start);
   // Before the lattice's solve, so that a missing ccx or a refused mesh fails fast; its time is
@@ -176,6 +213,7 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
   core::CantileverExperimentOptions options;
   options.body_size = arguments.model.size;
   options.total_force = arguments.force;
+  options.ends = faces ? core::CantileverEnds::kFaces : core::CantileverEnds::kNodeLayers;
   const core::CantileverExperimentResult result = core::RunCantileverExperiment(model, options);
   if (!result.solver.converged) return ReportSolverFailure(result.solver, err);
   const double seconds = build_seconds + Seconds(solve_start);
@@ -190,7 +228,9 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
               {"youngs_target", arguments.model.youngs},
               {"poisson_target", arguments.model.poisson},
               {"force", arguments.force},
+              {"ends", faces ? "faces" : "layers"},
               {"tip_deflection", result.tip_deflection},
+              {"end_face_deflection", result.end_face_deflection},
               {"theory_tip_deflection", result.theory_tip_deflection},
               {"beam_length", result.beam_length},
               {"profile", profile}};
@@ -201,21 +241,7 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
     out << json.dump() << "\n";
     return 0;
   }
-  out << "cantilever, clamped at x = 0, force " << arguments.force << " N in -z at the end\n";
-  PrintModelTable(arguments.model, stats, out);
-  out << std::setprecision(5) << "beam length      " << result.beam_length
-      << " m (frozen layer to loaded layer)\n\n"
-      << "       x [m]   deflection [m]   Euler-Bernoulli [m]\n";
-  for (const core::DeflectionSample& sample : result.profile) {
-    out << std::setw(12) << sample.x << "  " << std::setw(15) << sample.deflection << "  "
-        << std::setw(18) << sample.theory << "\n";
-  }
-  out << "\ntip deflection   " << result.tip_deflection << " m, theory "
-      << result.theory_tip_deflection << " m ("
-      << 100.0 * (result.tip_deflection / result.theory_tip_deflection - 1.0) << " %)\n";
-  if (reference) PrintReference(*reference, result.tip_deflection, out);
-  out << "solver: " << result.solver.message << "\n"
-      << "time: " << seconds << " s\n";
+  PrintDeflection(arguments, stats, faces, result, reference, seconds, out);
   return 0;
 }
 

@@ -56,12 +56,12 @@ void AddReferenceJson(const LabReference& reference, Json* json) {
   (*json)["reference_seconds"] = reference.result.seconds;
 }
 
-void PrintReference(const LabReference& reference, double tip_deflection, std::ostream& out) {
+void PrintReference(const LabReference& reference, double end_face_deflection, std::ostream& out) {
   const core::CalculixCantilever& box = reference.box;
   const double end_face = reference.result.end_face_deflection;
   out << "CalculiX C3D8I   " << box.elements_x << " x " << box.elements_y << " x " << box.elements_z
-      << ", clamped face x = 0: end-face deflection " << end_face << " m (lattice tip "
-      << 100.0 * (tip_deflection / end_face - 1.0) << " %), ccx " << reference.result.seconds
+      << ", clamped face x = 0: end-face deflection " << end_face << " m (lattice end face "
+      << 100.0 * (end_face_deflection / end_face - 1.0) << " %), ccx " << reference.result.seconds
       << " s\n";
 }
 

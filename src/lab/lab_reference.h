@@ -36,6 +36,6 @@ std::optional<LabReference> RunLabReference(const LabArguments& arguments);
 void AddReferenceJson(const LabReference& reference, Json* json);
 
 /// The table's line: the reference's end-face deflection and the lattice's tip against it.
-void PrintReference(const LabReference& reference, double tip_deflection, std::ostream& out);
+void PrintReference(const LabReference& reference, double end_face_deflection, std::ostream& out);
 
 }  // namespace msm_sim::lab

@@ -67,7 +67,7 @@ TEST(LabCli, DeflectionReportsProfileAndTheory) {
   const auto json = nlohmann::json::parse(run.out);
   EXPECT_GT(json["tip_deflection"].get<double>(), 0.0);
   EXPECT_GT(json["theory_tip_deflection"].get<double>(), 0.0);
-  ASSERT_EQ(json["profile"].size(), 16u);
+  ASSERT_EQ(json["profile"].size(), 17u);  // the clamped face, then 16 node layers
   EXPECT_EQ(json["profile"][0].size(), 3u);
 }
 

@@ -34,10 +34,29 @@ TEST(LabReferenceCli, JsonHasTheReferenceOnTheIssueMesh) {
   EXPECT_EQ(profile[0], nlohmann::json({0.0, 0.0}));
   EXPECT_NEAR(profile[40][0].get<double>(), 0.2, 1e-12);
   EXPECT_EQ(profile[40][1], json["reference_tip_deflection"]);
-  // The lattice's own results are still there.
+  // The lattice's own results are still there: by default clamped and loaded at its faces
+  // (issue "Fidelity against FEM"; test_cantilever_faces.cpp compares them with CalculiX), the
+  // end face extrapolated half a cell past the loaded layer.
   EXPECT_GT(json["tip_deflection"].get<double>(), 0.0);
-  EXPECT_EQ(json["profile"].size(), 16u);
+  EXPECT_EQ(json["ends"], "faces");
+  EXPECT_GT(json["end_face_deflection"].get<double>(), json["tip_deflection"].get<double>());
+  EXPECT_DOUBLE_EQ(json["beam_length"].get<double>(), 0.2);
+  ASSERT_EQ(json["profile"].size(), 17u);  // the clamped face, then 16 node layers
+  EXPECT_EQ(json["profile"][0], nlohmann::json({0.0, 0.0, 0.0}));
   EXPECT_GT(json["reference_seconds"].get<double>(), 0.0);
+}
+
+TEST(LabReferenceCli, NodeLayersAreStillAvailable) {
+  const std::string command(kIssueBox);
+  const LabRun run =
+      RunLab(command.substr(0, command.find(" --reference")) + " --ends layers --json");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto json = nlohmann::json::parse(run.out);
+  EXPECT_EQ(json["ends"], "layers");
+  EXPECT_DOUBLE_EQ(json["beam_length"].get<double>(), 0.2 - 0.0125);  // layer to layer
+  EXPECT_EQ(json["profile"].size(), 16u);
+  // Extrapolated half a cell past the loaded layer.
+  EXPECT_GT(json["end_face_deflection"].get<double>(), json["tip_deflection"].get<double>());
 }
 
 TEST(LabReferenceCli, TableHasTheReferenceLineAndTheMeshCanBeChosen) {
@@ -47,6 +66,7 @@ TEST(LabReferenceCli, TableHasTheReferenceLineAndTheMeshCanBeChosen) {
             std::string::npos)
       << run.out;
   EXPECT_NE(run.out.find("tip deflection"), std::string::npos);
+  EXPECT_NE(run.out.find("m (lattice end face "), std::string::npos) << run.out;
 }
 
 TEST(LabReferenceCli, WithoutReferenceThereAreNoReferenceKeys) {
