@@ -59,6 +59,16 @@ TEST(LabReferenceCli, NodeLayersAreStillAvailable) {
   EXPECT_GT(json["end_face_deflection"].get<double>(), json["tip_deflection"].get<double>());
 }
 
+TEST(LabReferenceCli, FacesNeedANodeCentredCubicLattice) {
+  const LabRun run = RunLab(
+      "deflection --model random --size 0.2 0.05 0.05 --spacing 0.0125 --youngs 120e3 "
+      "--poisson 0.25 --force 0.05 --ends faces");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("anchored planes (face clamps) need a node-centred cubic lattice"),
+            std::string::npos)
+      << run.err;
+}
+
 TEST(LabReferenceCli, TableHasTheReferenceLineAndTheMeshCanBeChosen) {
   const LabRun run = RunLab(std::string(kIssueBox) + " --reference-elements 8 2 2");
   ASSERT_EQ(run.exit_code, 0) << run.err;
