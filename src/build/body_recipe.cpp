@@ -86,6 +86,7 @@ RandomLatticeOptions RandomOptions(const BodyRecipe& recipe, double spacing) {
   options.max_distance = recipe.random_max_distance;
   options.spring_law = recipe.spring_law;
   options.stiffness_law = recipe.stiffness_law;
+  options.self_calibrate = recipe.random_self_calibrate;
   return options;
 }
 

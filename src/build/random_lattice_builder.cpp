@@ -149,14 +149,15 @@ double StiffnessScale(const Material& material, double volume, const std::vector
   return DirectSpringSumKL2(material, volume) / sum_shape;
 }
 
-// Adds the calibrated spring of every pair and, if isotropise, the dispersion weights that make
-// each node's star isotropic (SetIsotropicDispersionWeights).
+// Adds the calibrated spring of every pair (times the self-calibration's stiffness factor) and,
+// if isotropise, the dispersion weights that make each node's star isotropic
+// (SetIsotropicDispersionWeights).
 void AddCalibratedSprings(const Material& material, double volume,
-                          const RandomLatticeOptions& options, bool isotropise,
-                          const std::vector<Eigen::Vector3d>& points,
+                          const RandomLatticeOptions& options, double stiffness_factor,
+                          bool isotropise, const std::vector<Eigen::Vector3d>& points,
                           const std::vector<NodePair>& pairs, ModelBuilder* builder) {
   const bool inverse_square = options.stiffness_law == RandomStiffnessLaw::kInverseSquare;
-  const double c = StiffnessScale(material, volume, pairs, inverse_square);
+  const double c = stiffness_factor * StiffnessScale(material, volume, pairs, inverse_square);
   std::vector<std::vector<StarSpring>> stars(isotropise ? points.size() : 0);
   for (const NodePair& pair : pairs) {
     const double k = inverse_square ? c / (pair.length * pair.length) : c;
@@ -179,7 +180,14 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
   const std::vector<Eigen::Vector3d> points = PlaceNodes(options, region, target);
 
   const double node_mass = material.density() * volume / target;
-  const double q = DispersionFraction(material.poisson_ratio());
+  // The correction in force: a given one, a measured one, or none.
+  RandomSelfCalibration calibration{1.0, DispersionFraction(material.poisson_ratio())};
+  if (options.calibration) {
+    calibration = *options.calibration;
+  } else if (options.self_calibrate) {
+    calibration = MeasureRandomSelfCalibration(material, options);
+  }
+  const double q = calibration.dispersion_fraction;
   ModelBuilder builder(material);
   builder.SetSpringLaw(options.spring_law);
   builder.SetDispersionFraction(q);
@@ -187,8 +195,12 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
 
   const std::vector<NodePair> pairs =
       SpringPairs(points, region, options.max_distance * options.spacing);
-  const bool isotropise = options.isotropic_dispersion && q > 0.0;
-  AddCalibratedSprings(material, volume, options, isotropise, points, pairs, &builder);
+  // Decided by the target, not by the corrected q: near nu = 1/4 a correction that changes the
+  // sign of q would otherwise switch the weights and make the measured nu jump.
+  const bool isotropise =
+      options.isotropic_dispersion && DispersionFraction(material.poisson_ratio()) > 0.0;
+  AddCalibratedSprings(material, volume, options, calibration.stiffness_factor, isotropise, points,
+                       pairs, &builder);
   return builder.Build(volume, std::cbrt(volume / target));
 }
 

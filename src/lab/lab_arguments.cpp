@@ -106,6 +106,8 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
                    "random lattice spring law: uniform | inverse-square")
       ->capture_default_str()
       ->check(CLI::IsMember({"uniform", "inverse-square"}));
+  command->add_flag("--self-calibrate", model->self_calibrate,
+                    "random lattice: correct k and q by measuring a representative block");
   command->add_option("--spring", model->spring, "spring tension law: linear | nonlinear")
       ->capture_default_str()
       ->check(CLI::IsMember({"linear", "nonlinear"}));

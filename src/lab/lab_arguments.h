@@ -23,6 +23,7 @@ struct ModelArguments {
   double min_dist = 0.8;                     ///< random only, multiple of l
   double max_dist = 1.9;                     ///< random only, multiple of l
   std::string stiffness = "inverse-square";  ///< random only: uniform | inverse-square
+  bool self_calibrate = false;               ///< random only: docs/physics.md §2.2
   std::string spring = "linear";             ///< linear | nonlinear
   std::string dispersion = "two-pass";       ///< two-pass | one-pass
   std::string mesh;       ///< closed mesh file filling the body instead of the --size box

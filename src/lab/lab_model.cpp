@@ -58,6 +58,7 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
   recipe.stiffness_law = arguments.stiffness == "uniform"
                              ? core::RandomStiffnessLaw::kUniform
                              : core::RandomStiffnessLaw::kInverseSquare;
+  recipe.random_self_calibrate = arguments.self_calibrate;
   return recipe;
 }
 

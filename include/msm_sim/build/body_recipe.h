@@ -99,6 +99,9 @@ struct BodyRecipe {
   double random_max_distance = 1.9;
   /// Random: how stiffness varies with rest length. Default inverse-square.
   RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
+  /// Random: correct k and q by a virtual measurement of a representative block
+  /// (RandomLatticeOptions::self_calibrate, docs/physics.md §2.2). Default off.
+  bool random_self_calibrate = false;
 };
 
 /// Builds the recipe's model: the lattice's builder with the recipe's options, in the region's

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include <Eigen/Core>
 
@@ -15,6 +16,17 @@ namespace msm_sim::core {
 enum class RandomStiffnessLaw {
   kUniform,        ///< every spring has the same k
   kInverseSquare,  ///< k_i = c / L_i^2: every spring contributes equally to the moduli
+};
+
+/// The correction a random lattice's virtual measurement gives (docs/physics.md §2.2): every k
+/// is multiplied by stiffness_factor and the eMSM runs with dispersion_fraction instead of
+/// q(nu) = DispersionFraction(nu). The identity is {1, DispersionFraction(nu)}.
+struct RandomSelfCalibration {
+  double stiffness_factor = 1.0;     ///< > 0
+  double dispersion_fraction = 0.0;  ///< q actually used, > -1/2
+  double measured_youngs = 0.0;      ///< Pa, E of the representative block before the k scaling
+  double measured_poisson = 0.0;     ///< nu of the representative block at the final q
+  int measurements = 0;              ///< compression experiments it took
 };
 
 /// A box [0, size] filled by random sequential addition (thesis 2.3.3).
@@ -33,13 +45,34 @@ struct RandomLatticeOptions {
   /// Random sequential addition gives up after this many draws per requested node.
   int max_draws_per_node = 1000;
   int max_nodes = 2'000'000;
+  /// Self-calibration (docs/physics.md §2.2): measure a representative block with the same l,
+  /// minL, maxL, laws and nu but calibration_seed in the virtual compression test, and correct q
+  /// and k so that it reads the target nu and E. Off by default: it costs a few builds and
+  /// static solves of the representative block (README "Measured accuracy").
+  bool self_calibrate = false;
+  /// Representative block: 3w x w x w characteristic spacings (w = calibration_block_cells).
+  int calibration_block_cells = 16;
+  std::uint64_t calibration_seed = 0x5e1fca1;  ///< differs from the body's seed on purpose
+  /// A correction measured before (MeasureRandomSelfCalibration, or a cached one): applied as is,
+  /// nothing is measured. Takes precedence over self_calibrate.
+  std::optional<RandomSelfCalibration> calibration;
 };
+
+/// Measures the self-calibration for `options` (its size, seed, self_calibrate and calibration
+/// are ignored): builds the representative block, runs the compression experiment at strain
+/// 1e-3, moves the dispersion ratio Q by secant steps until the measured nu is within 0.002 of
+/// the target (at most 2 steps, each changing 1 + Q by at most a factor 2), then sets
+/// stiffness_factor = E_target / E_measured. Deterministic. Throws as BuildRandomLattice, and
+/// std::runtime_error if a static solve does not converge.
+RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
+                                                   const RandomLatticeOptions& options);
 
 /// Builds a calibrated random MSM of the box: N = round(V / l^3) points at least minL apart
 /// (spatial-hash rejection), a spring between every pair closer than maxL, node mass rho V / N,
 /// and stiffnesses scaled so that sum k_i L_i^2 = 15 V mu, a Cauchy solid with the target shear
 /// modulus, plus the eMSM dispersion q = Q(nu) / 2 (docs/physics.md §2-3; at nu = 1/4 this is the
-/// plain calibration (1 / (6V)) sum k_i L_i^2 = E).
+/// plain calibration (1 / (6V)) sum k_i L_i^2 = E). With options.calibration (or
+/// self_calibrate, which measures one first) the stiffnesses and q are corrected.
 ///
 /// Throws std::invalid_argument for bad options (non-positive sizes, spacing larger than the box,
 /// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place
