@@ -81,16 +81,14 @@ std::vector<World::PairContact> World::FindTouchingPairs() {
   };
   std::vector<Entry> entries;
   double max_radius = 0.0;
-  bool any_self = false;
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    any_self = any_self || bodies_[b].options.self_collision;
     for (std::size_t k = 0; k < bodies_[b].border.nodes.size(); ++k) {
       entries.push_back(
           {static_cast<int>(b), bodies_[b].border.nodes[k], bodies_[b].border.radii[k]});
       max_radius = std::max(max_radius, bodies_[b].border.radii[k]);
     }
   }
-  if (entries.empty() || (bodies_.size() < 2 && !any_self)) return {};
+  if (entries.empty()) return {};  // a lone body without self-contact left above
   SpatialHashGrid grid(2.0 * max_radius);
   for (std::size_t e = 0; e < entries.size(); ++e) {
     grid.Insert(static_cast<int>(e), bodies_[entries[e].body].state.positions.col(entries[e].node));
