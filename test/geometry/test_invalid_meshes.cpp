@@ -32,8 +32,8 @@ constexpr std::uint64_t kSafetyNetBytes = std::uint64_t{4} << 30;
 
 TEST(InvalidMeshes, AssimpsInvalidModelsAreRefusedInBoundedMemory) {
   if (!std::filesystem::is_directory(kInvalidDir)) {
-    GTEST_SKIP() << kInvalidDir << " is missing: install assimp-testmodels "
-                 << "(scripts/install_dependencies.sh)";
+    FAIL() << kInvalidDir << " is missing: install assimp-testmodels "
+           << "(scripts/install_dependencies.sh)";
   }
   std::vector<std::string> paths;
   for (const auto& entry : std::filesystem::directory_iterator(kInvalidDir)) {
@@ -70,7 +70,8 @@ TEST(InvalidMeshes, AssimpsInvalidModelsAreRefusedInBoundedMemory) {
 TEST(InvalidMeshes, OutOfMemoryOffIsRefusedByItsHeader) {
   const std::string path = std::string(kInvalidDir) + "/OutOfMemory.off";
   struct stat info {};
-  if (stat(path.c_str(), &info) != 0) GTEST_SKIP() << path << " is missing";
+  ASSERT_EQ(stat(path.c_str(), &info), 0)
+      << path << " is missing: install assimp-testmodels (scripts/install_dependencies.sh)";
   const std::string expected =
       "mesh '" + path +
       "': the header declares 353535235358 vertices and 6 faces, which need at least "
