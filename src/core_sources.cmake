@@ -44,6 +44,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/dof_constraints.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_kernels.cpp
+  ${MSM_SIM_DIR}/src/mechanics/single_precision_kernels.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
   ${MSM_SIM_DIR}/src/mechanics/spring_schedule.cpp

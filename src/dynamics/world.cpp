@@ -36,6 +36,7 @@ World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> bod
                                                  model->spring_rest_length().end())
                              : model->characteristic_length();
   self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
+  evaluator.set_precision(world_options.spring_precision);
   StableTimeStepOptions step;
   step.damping_beta = body_options.damping_beta;
   step.safety = world_options.time_step_safety;

@@ -145,6 +145,7 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   WorldOptions world_options;
   world_options.gravity.setZero();
   world_options.integrator = options.integrator;
+  world_options.spring_precision = options.spring_precision;
   world_options.implicit_max_substep = options.step;
   World world(world_options);
   BodyOptions body_options;

@@ -33,6 +33,7 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   world_options.integrator = options.integrator;
   world_options.implicit_max_substep = options.step;
   world_options.threads = options.threads;
+  world_options.spring_precision = options.spring_precision;
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;

@@ -28,6 +28,10 @@ core::Integrator IntegratorNamed(const std::string& name) {
   throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
 }
 
+core::SpringPrecision PrecisionNamed(const std::string& name) {
+  return name == "single" ? core::SpringPrecision::kSingle : core::SpringPrecision::kDouble;
+}
+
 std::shared_ptr<const core::Model> LabBlock(const ModelArguments& model) {
   return std::make_shared<const core::Model>(BuildLabModel(model, LoadLabBody(model, true)));
 }
@@ -51,6 +55,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.dispersion = Dispersion(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
   options.threads = contact.threads;
+  options.spring_precision = PrecisionNamed(contact.precision);
   const auto model = LabBlock(arguments.model);
   const core::RealtimeExperimentResult result = core::RunRealtimeExperiment(model, options);
   if (arguments.json) {
@@ -128,6 +133,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.damping_beta = contact.damping;
   options.dispersion = Dispersion(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
+  options.spring_precision = PrecisionNamed(contact.precision);
   const auto model = LabBlock(arguments.model);
   const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);
   const Json held = RunHeldIndent(options, result, contact.start_depth, model);

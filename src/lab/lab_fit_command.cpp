@@ -59,6 +59,8 @@ struct Sample {
     options.dispersion = model.dispersion == "one-pass" ? core::DispersionPasses::kOnePass
                                                         : core::DispersionPasses::kTwoPass;
     core::ParseIntegrator(contact.integrator, &options.integrator);
+    options.spring_precision = contact.precision == "single" ? core::SpringPrecision::kSingle
+                                                             : core::SpringPrecision::kDouble;
   }
 
   std::vector<core::IndentationSample> Simulate(double youngs, double poisson) {

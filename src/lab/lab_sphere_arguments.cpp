@@ -19,6 +19,12 @@ void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
                    "explicit (position Verlet, stable substeps) | implicit (one substep a step)")
       ->capture_default_str()
       ->check(CLI::IsMember({"explicit", "implicit"}));
+  command
+      ->add_option("--precision", contact->precision,
+                   "the spring loops' arithmetic: double | single (cubic lattices; "
+                   "docs/physics.md section 9)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"double", "single"}));
 }
 
 void AddFitCommand(CLI::App* app, CommandLine* line) {

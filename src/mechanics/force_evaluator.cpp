@@ -8,9 +8,12 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "mechanics/force_kernels.h"
+#include "mechanics/single_precision_kernels.h"
 #include "mechanics/worker_pool.h"
 
 namespace msm_sim::core {
@@ -74,7 +77,22 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, Spri
 
 void ForceEvaluator::set_max_threads(int max_threads) { max_threads_ = std::max(1, max_threads); }
 
+void ForceEvaluator::set_precision(SpringPrecision precision) {
+  precision_ = precision;
+  if (precision == SpringPrecision::kDouble || !scheduled_) {
+    single_.reset();
+  } else if (!single_) {
+    single_ = SinglePrecisionSprings::Schedule(*model_, inflow_a_.data(), inflow_b_.data(),
+                                               outflow_a_.data(), outflow_b_.data());
+  }
+}
+
 const Eigen::VectorXd& ForceEvaluator::total_tensions() const {
+  if (!totals_recorded_) {
+    throw std::logic_error(
+        "ForceEvaluator::total_tensions: the last evaluation was single precision, which records "
+        "no tensions; evaluate in double (set_precision(SpringPrecision::kDouble)) first");
+  }
   if (totals_scheduled_) {
     const std::vector<SpringIndex>& model_index = scheduled_->schedule.model_index;
     for (std::size_t p = 0; p < model_index.size(); ++p) {
@@ -133,8 +151,8 @@ void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&&
   ForShares(model_->num_springs(), target, target_size, std::forward<Body>(body));
 }
 
-template <typename Body>
-void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_size, Body&& body) {
+template <typename Scalar, typename Body>
+void ForceEvaluator::ForShares(int count, Scalar* target, Eigen::Index target_size, Body&& body) {
   // The pool's thread starts only when a model may use it: a one-thread world starts none.
   const bool parallel = model_->num_springs() >= kParallelSprings && max_threads_ > 1;
   WorkerPool* pool = parallel ? &WorkerPool::Shared() : nullptr;
@@ -147,12 +165,20 @@ void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_si
   // the shares touch mostly different nodes) and scatters into its own buffer; the buffers
   // are added in share order, so a given thread count always gives the same sums, whichever
   // thread runs a share.
-  scratch_.resize(threads - 1);
-  for (Eigen::VectorXd& buffer : scratch_) buffer.setZero(target_size);
+  auto& scratch = [this]() -> auto& {
+    if constexpr (std::is_same_v<Scalar, float>) {
+      return single_scratch_;
+    } else {
+      return scratch_;
+    }
+  }
+  ();
+  scratch.resize(threads - 1);
+  for (auto& buffer : scratch) buffer.setZero(target_size);
   const std::function<void(int)> share = [&](int t) {
     const int begin = static_cast<int>(static_cast<long long>(count) * t / threads);
     const int end = static_cast<int>(static_cast<long long>(count) * (t + 1) / threads);
-    body(begin, end, t == 0 ? target : scratch_[t - 1].data());
+    body(begin, end, t == 0 ? target : scratch[t - 1].data());
   };
   std::unique_lock<std::mutex> lock(pool->busy(), std::try_to_lock);
   if (lock.owns_lock()) {
@@ -160,8 +186,8 @@ void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_si
   } else {  // another evaluator (another World's thread) has the pool: the same shares, here
     for (int t = 0; t < threads; ++t) share(t);
   }
-  Eigen::Map<Eigen::VectorXd> sum(target, target_size);
-  for (const Eigen::VectorXd& buffer : scratch_) sum += buffer;
+  Eigen::Map<Eigen::Matrix<Scalar, Eigen::Dynamic, 1>> sum(target, target_size);
+  for (const auto& buffer : scratch) sum += buffer;
 }
 
 template <SpringLaw Law, bool Damped>
@@ -302,6 +328,7 @@ void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions,
 template <bool Damped>
 void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                 Eigen::Matrix3Xd* forces) {
+  totals_recorded_ = true;
   const bool dispersion = model_->dispersion_fraction() != 0.0;
   const bool lagged = passes_ == DispersionPasses::kOnePass && has_previous_dispersion_;
   if (scheduled_ && !(dispersion && lagged)) {
@@ -335,6 +362,10 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
 
 void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                     Eigen::Matrix3Xd* forces) {
+  if (single_) {
+    AccumulateSingle(positions, damping, forces);
+    return;
+  }
   const Eigen::Index n = model_->num_nodes();
   node_arrays_.resize(9 * n);
   double* x = node_arrays_.data();
@@ -371,6 +402,70 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
   }
   AddNodeArrays(f, n, forces->data());
   totals_scheduled_ = true;
+}
+
+void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                                      Eigen::Matrix3Xd* forces) {
+  const Eigen::Index n = model_->num_nodes();
+  single_nodes_.resize(12 * n);
+  float* x = single_nodes_.data();
+  float* v = x + 3 * n;
+  float* f = x + 6 * n;
+  // Relative to node 0: a float resolves 6e-8 of the body's size, not of its distance from the
+  // world's origin.
+  const double* p = positions.data();
+  const double origin[3] = {p[0], p[1], p[2]};
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) x[d * n + i] = static_cast<float>(p[3 * i + d] - origin[d]);
+  }
+  const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
+  const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
+  const SingleNodeArrays* velocities = nullptr;
+  if (damping.velocities != nullptr) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (int d = 0; d < 3; ++d) v[d * n + i] = static_cast<float>(damping.velocities[3 * i + d]);
+    }
+    velocities = &v_arrays;
+  }
+  const auto beta = static_cast<float>(damping.beta);
+  std::fill(f, f + 6 * n, 0.0f);
+  const int num_runs = static_cast<int>(single_->runs.size());
+  const auto end_forces = [n](float* target) {
+    return SingleEndForces{{target, target + n, target + 2 * n},
+                           {target + 3 * n, target + 4 * n, target + 5 * n}};
+  };
+  if (model_->dispersion_fraction() == 0.0) {
+    ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
+      SinglePlainRuns(*single_, begin, end, x_arrays, velocities, beta, end_forces(target));
+    });
+  } else {
+    const int slots = single_->num_slots();
+    single_tensions_.resize(slots);
+    single_inverse_lengths_.resize(slots);
+    single_accumulators_.setZero(2 * n);
+    ForShares(num_runs, single_accumulators_.data(), 2 * n, [&](int begin, int end, float* target) {
+      SingleInflowRuns(*single_, begin, end, x_arrays, velocities, beta, single_tensions_.data(),
+                       single_inverse_lengths_.data(), target, target + n);
+    });
+    single_dispersion_.resize(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const double j = static_cast<double>(single_accumulators_[i]) + single_accumulators_[n + i];
+      single_dispersion_[i] = static_cast<float>(j * inverse_star_weight_[i]);
+    }
+    ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
+      SingleOutflowRuns(*single_, begin, end, x_arrays, single_dispersion_.data(),
+                        single_tensions_.data(), single_inverse_lengths_.data(),
+                        end_forces(target));
+    });
+  }
+  double* out = forces->data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      out[3 * i + d] += static_cast<double>(f[d * n + i]) + static_cast<double>(f[(3 + d) * n + i]);
+    }
+  }
+  totals_recorded_ = false;
+  totals_scheduled_ = false;
 }
 
 }  // namespace msm_sim::core

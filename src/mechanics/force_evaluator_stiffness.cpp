@@ -7,6 +7,7 @@
 #include <cstddef>
 
 #include "mechanics/force_kernels.h"
+#include "mechanics/single_precision_kernels.h"
 
 namespace msm_sim::core {
 
@@ -72,8 +73,12 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
   const bool saved_has_previous = has_previous_dispersion_;
   const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
   passes_ = DispersionPasses::kTwoPass;
+  // In double, whatever the caller's precision: K and the solve need the exact tensions.
+  std::shared_ptr<const SinglePrecisionSprings> saved_single = std::move(single_);
+  single_.reset();
   Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
   AccumulateForces(positions, &scratch);
+  single_ = std::move(saved_single);
   passes_ = saved_passes;
   has_previous_dispersion_ = saved_has_previous;
   dispersion_per_weight_ = saved_dispersion;

@@ -42,6 +42,20 @@ TEST(RealtimeExperiment, ReportsTheModelStepsAndContactForce) {
   EXPECT_DOUBLE_EQ(result.real_time_factor, 1.0 / result.wall_per_simulated_second);
 }
 
+TEST(RealtimeExperiment, SinglePrecisionSpringsPressTheSame) {
+  // The spring loops' precision changes the rounding, not the dynamics: the same substeps and
+  // the same force on the sphere to the strain resolution of single precision.
+  const auto block = SmallBlock();
+  RealtimeExperimentOptions options;
+  options.seconds = 0.05;
+  const RealtimeExperimentResult exact = RunRealtimeExperiment(block, options);
+  options.spring_precision = SpringPrecision::kSingle;
+  const RealtimeExperimentResult single = RunRealtimeExperiment(block, options);
+  EXPECT_EQ(single.substeps, exact.substeps);
+  EXPECT_NE(single.peak_force, exact.peak_force);  // the single loops did run
+  EXPECT_NEAR(single.peak_force, exact.peak_force, 1e-4 * exact.peak_force);
+}
+
 TEST(RealtimeExperiment, InvalidOptionsThrow) {
   const auto block = SmallBlock();
   for (int field = 0; field < 7; ++field) {

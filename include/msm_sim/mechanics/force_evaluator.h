@@ -10,6 +10,7 @@
 namespace msm_sim::core {
 
 struct ScheduledSpringData;
+struct SinglePrecisionSprings;
 
 /// How a force evaluation computes the eMSM momentum dispersion (docs/physics.md §3).
 enum class DispersionPasses {
@@ -27,6 +28,18 @@ enum class SpringKernels {
   kAuto,
   /// Always the per-spring loops: the reference the run kernels are tested and timed against.
   kPerSpring,
+};
+
+/// The arithmetic of AccumulateForces' spring loops (docs/physics.md §9).
+enum class SpringPrecision {
+  kDouble,  ///< double throughout
+  /// Where the run kernels apply (linear springs in rows: cubic lattices), the spring loops run
+  /// in single precision: positions relative to node 0 and velocities rounded to float, tensions
+  /// and forces summed in float, then added to the double forces. Twice the springs per SIMD
+  /// register; a spring's strain is resolved to about 1e-7 of its length (positions are rounded
+  /// to 6e-8 of the body's size). Energy, Linearize and the stiffness stay in double, and
+  /// total_tensions is not recorded. Other models evaluate in double.
+  kSingle,
 };
 
 /// Which geometric stiffness (T / L across each spring, T its total tension) Linearize keeps.
@@ -65,6 +78,10 @@ class ForceEvaluator {
   /// Changes max_threads (>= 1, as in the constructor).
   void set_max_threads(int max_threads);
 
+  /// The precision of later AccumulateForces calls (kDouble after construction).
+  void set_precision(SpringPrecision precision);
+  SpringPrecision precision() const { return precision_; }
+
   /// Adds the internal forces at `positions` to *forces (3 x N, N).
   void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   /// The same plus spring dampers (docs/physics.md §7): every spring also carries the tension
@@ -82,7 +99,7 @@ class ForceEvaluator {
 
   /// Total tension of every spring at the last AccumulateForces (N, > 0 stretched): direct plus
   /// dispersed plus Baudet correction, what measurements such as momentum flow and Hardy stress
-  /// must sum.
+  /// must sum. Throws std::logic_error after a single-precision evaluation, which records none.
   const Eigen::VectorXd& total_tensions() const;
 
   /// Caches the linearisation of the two-pass forces at `positions` for ApplyStiffness and
@@ -118,11 +135,14 @@ class ForceEvaluator {
   template <typename Body>
   void ForSprings(double* target, Eigen::Index target_size, Body&& body);
   /// The same over `count` work items (springs or runs); threads as for the model's springs.
-  template <typename Body>
-  void ForShares(int count, double* target, Eigen::Index target_size, Body&& body);
+  template <typename Scalar, typename Body>
+  void ForShares(int count, Scalar* target, Eigen::Index target_size, Body&& body);
   /// The vectorised evaluation (plain or two-pass eMSM) over the spring schedule.
   void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                       Eigen::Matrix3Xd* forces);
+  /// The same in single precision (SpringPrecision::kSingle).
+  void AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                        Eigen::Matrix3Xd* forces);
 
   template <bool Damped>
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -173,8 +193,17 @@ class ForceEvaluator {
   bool has_previous_dispersion_ = false;
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
   Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
-  std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
+  Eigen::VectorXd tangent_stiffness_;            // dt / dL per spring (linearisation)
+  std::vector<Eigen::VectorXd> scratch_;         // per extra thread: its scatter buffer
+  std::vector<Eigen::VectorXf> single_scratch_;  // the same for the single-precision loops
+  SpringPrecision precision_ = SpringPrecision::kDouble;
+  bool totals_recorded_ = true;  // false after a single-precision evaluation
+  // Set while precision_ is kSingle and the model suits the run kernels.
+  std::shared_ptr<const SinglePrecisionSprings> single_;
+  // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each; the
+  // accumulators J of the a and b ends (N each), g = J / W (N); per slot: tensions and 1 / L.
+  Eigen::VectorXf single_nodes_, single_accumulators_, single_dispersion_, single_tensions_,
+      single_inverse_lengths_;
 };
 
 }  // namespace msm_sim::core

@@ -1,0 +1,246 @@
+// Compiled with -fno-math-errno (CMakeLists.txt), as force_kernels.cpp: std::sqrt then becomes
+// one SIMD instruction, which lets the loops vectorise.
+
+#include "mechanics/single_precision_kernels.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <utility>
+
+namespace msm_sim::core {
+
+std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
+    const Model& model, const double* inflow_a, const double* inflow_b, const double* outflow_a,
+    const double* outflow_b) {
+  const int count = model.num_springs();
+  const auto& node_a = model.spring_node_a();
+  const auto& node_b = model.spring_node_b();
+  // Each spring oriented a < b (its end coefficients swapped with it), sorted by offset, then a.
+  std::vector<SpringIndex> order(count);
+  std::iota(order.begin(), order.end(), 0);
+  const auto low = [&](SpringIndex s) { return std::min(node_a[s], node_b[s]); };
+  const auto offset = [&](SpringIndex s) { return std::abs(node_b[s] - node_a[s]); };
+  std::stable_sort(order.begin(), order.end(), [&](SpringIndex i, SpringIndex j) {
+    return offset(i) != offset(j) ? offset(i) < offset(j) : low(i) < low(j);
+  });
+  auto springs = std::make_shared<SinglePrecisionSprings>();
+  SinglePrecisionSprings& out = *springs;
+  const auto add_slot = [&](float k, float rest, float in_a, float in_b, float out_a, float out_b) {
+    out.stiffness.push_back(k);
+    out.rest.push_back(rest);
+    out.inflow_a.push_back(in_a);
+    out.inflow_b.push_back(in_b);
+    out.outflow_a.push_back(out_a);
+    out.outflow_b.push_back(out_b);
+  };
+  for (int p = 0; p < count; ++p) {
+    const SpringIndex s = order[p];
+    const int a = low(s);
+    SingleRun* run = out.runs.empty() ? nullptr : &out.runs.back();
+    const int gap = run != nullptr ? a - (run->a0 + run->count) : -1;
+    const bool extend = run != nullptr && run->offset == offset(s) && gap >= 0 && gap <= kMaxGap &&
+                        run->count + gap < kMaxRunLength;
+    if (extend) {
+      for (int g = 0; g < gap; ++g) add_slot(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f);
+      out.num_phantoms += gap;
+      run->count += gap + 1;
+    } else {
+      out.runs.push_back({out.num_slots(), a, offset(s), 1});
+    }
+    const bool swapped = node_a[s] > node_b[s];
+    add_slot(static_cast<float>(model.spring_stiffness()[s]),
+             static_cast<float>(model.spring_rest_length()[s]),
+             static_cast<float>(swapped ? inflow_b[s] : inflow_a[s]),
+             static_cast<float>(swapped ? inflow_a[s] : inflow_b[s]),
+             static_cast<float>(swapped ? outflow_b[s] : outflow_a[s]),
+             static_cast<float>(swapped ? outflow_a[s] : outflow_b[s]));
+  }
+  return springs;
+}
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define MSM_SIM_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define MSM_SIM_SIMD_CLONES
+#endif
+
+namespace {
+
+// 1 / L, finite for a slot of zero length (see the header): its r is then 0, and so is its
+// force. The 1e-30 m leaves any length above 1e-22 m unchanged (it is below half its last
+// place); a select on L > 0, or std::max, would not vectorise (GCC keeps the comparison's
+// control flow, the division it guards may trap).
+inline __attribute__((always_inline)) float InverseLength(float length) {
+  return 1.0f / (length + 1e-30f);
+}
+
+// The damper's tension beta k (v_b - v_a) . r / L of slot i, offset d, velocities from the
+// run's a0.
+inline __attribute__((always_inline)) float DamperTension(const float* __restrict vx,
+                                                          const float* __restrict vy,
+                                                          const float* __restrict vz, int i, int d,
+                                                          float rx, float ry, float rz,
+                                                          float beta_k, float inverse_length) {
+  // r as three scalars: an array passed by pointer is a memory object the loop cannot vectorise.
+  const float rate = (vx[i + d] - vx[i]) * rx + (vy[i + d] - vy[i]) * ry + (vz[i + d] - vz[i]) * rz;
+  return beta_k * rate * inverse_length;
+}
+
+// A node array from a run's a0, or null for none (no dampers).
+inline const float* From(const float* array, int a0) {
+  return array != nullptr ? array + a0 : nullptr;
+}
+
+// One run of the plain pass, its pointers as restrict parameters (GCC trusts those; pointers
+// read inside the loop, or restrict locals, left a scalar loop). Node arrays start at the run's
+// a0, per-slot arrays at its first slot, the b ends' forces at node a0 + d.
+template <bool Damped>
+inline __attribute__((always_inline)) void PlainRun(
+    int n, int d, const float* __restrict px, const float* __restrict py,
+    const float* __restrict pz, const float* __restrict vx, const float* __restrict vy,
+    const float* __restrict vz, float beta, const float* __restrict k, const float* __restrict rest,
+    float* __restrict fax, float* __restrict fay, float* __restrict faz, float* __restrict fbx,
+    float* __restrict fby, float* __restrict fbz) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+    const float length = std::sqrt(rx * rx + ry * ry + rz * rz);
+    const float inverse_length = InverseLength(length);
+    float t = k[i] * (length - rest[i]);
+    if constexpr (Damped)
+      t += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
+    const float scale = t * inverse_length;
+    fax[i] += scale * rx;
+    fay[i] += scale * ry;
+    faz[i] += scale * rz;
+    fbx[i] -= scale * rx;
+    fby[i] -= scale * ry;
+    fbz[i] -= scale * rz;
+  }
+}
+
+template <bool Damped>
+inline __attribute__((always_inline)) void PlainImpl(const SinglePrecisionSprings& springs,
+                                                     int run_begin, int run_end,
+                                                     const SingleNodeArrays& positions,
+                                                     const SingleNodeArrays* velocities, float beta,
+                                                     const SingleEndForces& forces) {
+  const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
+  for (int r = run_begin; r < run_end; ++r) {
+    const SingleRun& run = springs.runs[r];
+    const int a0 = run.a0, b0 = run.a0 + run.offset, f = run.first;
+    PlainRun<Damped>(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
+                     From(v.x, a0), From(v.y, a0), From(v.z, a0), beta,
+                     springs.stiffness.data() + f, springs.rest.data() + f, forces.a.x + a0,
+                     forces.a.y + a0, forces.a.z + a0, forces.b.x + b0, forces.b.y + b0,
+                     forces.b.z + b0);
+  }
+}
+
+// One run of the eMSM first pass, its pointers as restrict parameters (GCC then trusts them;
+// as restrict locals it kept a scalar fallback and took it). Node arrays start at the run's a0,
+// per-slot arrays at its first slot, jb at node a0 + d.
+template <bool Damped>
+inline __attribute__((always_inline)) void InflowRun(
+    int n, int d, const float* __restrict px, const float* __restrict py,
+    const float* __restrict pz, const float* __restrict vx, const float* __restrict vy,
+    const float* __restrict vz, float beta, const float* __restrict k, const float* __restrict rest,
+    const float* __restrict in_a, const float* __restrict in_b, float* __restrict t,
+    float* __restrict inverse, float* __restrict ja, float* __restrict jb) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+    const float length = std::sqrt(rx * rx + ry * ry + rz * rz);
+    const float inverse_length = InverseLength(length);
+    const float elastic = k[i] * (length - rest[i]);
+    float total = elastic;
+    if constexpr (Damped) {
+      total += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
+    }
+    t[i] = total;
+    inverse[i] = inverse_length;
+    ja[i] += in_a[i] * elastic;
+    jb[i] += in_b[i] * elastic;
+  }
+}
+
+template <bool Damped>
+inline __attribute__((always_inline)) void InflowImpl(
+    const SinglePrecisionSprings& springs, int run_begin, int run_end,
+    const SingleNodeArrays& positions, const SingleNodeArrays* velocities, float beta,
+    float* tensions, float* inverse_lengths, float* j_a, float* j_b) {
+  const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
+  for (int r = run_begin; r < run_end; ++r) {
+    const SingleRun& run = springs.runs[r];
+    const int a0 = run.a0, f = run.first;
+    InflowRun<Damped>(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
+                      From(v.x, a0), From(v.y, a0), From(v.z, a0), beta,
+                      springs.stiffness.data() + f, springs.rest.data() + f,
+                      springs.inflow_a.data() + f, springs.inflow_b.data() + f, tensions + f,
+                      inverse_lengths + f, j_a + a0, j_b + a0 + run.offset);
+  }
+}
+
+// One run of the eMSM second pass (g from the run's a0; as PlainRun otherwise).
+inline __attribute__((always_inline)) void OutflowRun(
+    int n, int d, const float* __restrict px, const float* __restrict py,
+    const float* __restrict pz, const float* __restrict g, const float* __restrict t,
+    const float* __restrict inverse, const float* __restrict out_a, const float* __restrict out_b,
+    float* __restrict fax, float* __restrict fay, float* __restrict faz, float* __restrict fbx,
+    float* __restrict fby, float* __restrict fbz) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+    const float scale = (t[i] + out_a[i] * g[i] + out_b[i] * g[i + d]) * inverse[i];
+    fax[i] += scale * rx;
+    fay[i] += scale * ry;
+    faz[i] += scale * rz;
+    fbx[i] -= scale * rx;
+    fby[i] -= scale * ry;
+    fbz[i] -= scale * rz;
+  }
+}
+
+}  // namespace
+
+MSM_SIM_SIMD_CLONES
+void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+                     const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
+                     float beta, const SingleEndForces& forces) {
+  if (velocities != nullptr) {
+    PlainImpl<true>(springs, run_begin, run_end, positions, velocities, beta, forces);
+  } else {
+    PlainImpl<false>(springs, run_begin, run_end, positions, velocities, beta, forces);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
+void SingleInflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
+                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b) {
+  if (velocities != nullptr) {
+    InflowImpl<true>(springs, run_begin, run_end, positions, velocities, beta, tensions,
+                     inverse_lengths, j_a, j_b);
+  } else {
+    InflowImpl<false>(springs, run_begin, run_end, positions, velocities, beta, tensions,
+                      inverse_lengths, j_a, j_b);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
+void SingleOutflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+                       const SingleNodeArrays& positions, const float* dispersion_per_weight,
+                       const float* tensions, const float* inverse_lengths,
+                       const SingleEndForces& forces) {
+  for (int r = run_begin; r < run_end; ++r) {
+    const SingleRun& run = springs.runs[r];
+    const int a0 = run.a0, b0 = run.a0 + run.offset, f = run.first;
+    OutflowRun(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
+               dispersion_per_weight + a0, tensions + f, inverse_lengths + f,
+               springs.outflow_a.data() + f, springs.outflow_b.data() + f, forces.a.x + a0,
+               forces.a.y + a0, forces.a.z + a0, forces.b.x + b0, forces.b.y + b0, forces.b.z + b0);
+  }
+}
+
+}  // namespace msm_sim::core

@@ -1,0 +1,93 @@
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// The single-precision spring loops of ForceEvaluator (SpringPrecision::kSingle, docs/physics.md
+/// §9). They hold twice the springs per SIMD register of the double loops (force_kernels.h) and
+/// take a spring's two ends in one loop, each end scattering into its own force array, so a run
+/// is one loop whatever its offset.
+
+/// A run of the single-precision schedule: slots first .. first + count - 1 join nodes a0 + i and
+/// a0 + offset + i. A slot is a spring of the model or a phantom: where one lattice row ends and
+/// the next begins, or a surface leaves out a few springs, phantoms (stiffness 0, no dispersion)
+/// bridge the gap, so that a box's rows of one direction form a few long runs; with 8 springs
+/// per register a row of 19 springs left a third of the work to remainder loops.
+struct SingleRun {
+  int first;
+  int a0;
+  int offset;  // > 0
+  int count;
+};
+
+/// Per-slot data in schedule order, single precision. Immutable once built; evaluators share it.
+struct SinglePrecisionSprings {
+  /// Longest gap (missing springs in a row of one offset) that phantoms bridge.
+  static constexpr int kMaxGap = 8;
+  /// Longest run: bounds the imbalance of the threads' shares, which are cut between runs.
+  static constexpr int kMaxRunLength = 512;
+
+  std::vector<SingleRun> runs;
+  std::vector<float> rest, stiffness, inflow_a, inflow_b, outflow_a, outflow_b;
+  int num_phantoms = 0;
+
+  int num_slots() const { return static_cast<int>(rest.size()); }
+
+  /// Schedules `model`'s springs with the per-end dispersion coefficients of ForceEvaluator
+  /// (model order, per spring: inflow q v L0 and outflow v k L0 at the model's a and b ends).
+  /// Deterministic. Precondition: linear springs (the loops know t = k (L - L0) only).
+  static std::shared_ptr<const SinglePrecisionSprings> Schedule(const Model& model,
+                                                                const double* inflow_a,
+                                                                const double* inflow_b,
+                                                                const double* outflow_a,
+                                                                const double* outflow_b);
+};
+
+/// Node vectors as x, y, z blocks (structure of arrays), single precision.
+struct SingleNodeArrays {
+  const float* x;
+  const float* y;
+  const float* z;
+};
+struct MutableSingleNodeArrays {
+  float* x;
+  float* y;
+  float* z;
+};
+
+/// Where the loops scatter: the a ends of every slot into `a`, the b ends into `b` (the caller
+/// sums the two). Two arrays let one SIMD loop write both ends of a run of any offset.
+struct SingleEndForces {
+  MutableSingleNodeArrays a;
+  MutableSingleNodeArrays b;
+};
+
+// The loops take runs [run_begin, run_end). `velocities` null: no dampers; else dampers of
+// tension beta k dL/dt. They are compiled for AVX2 + FMA where the CPU has it (chosen at load
+// time) and for baseline x86-64 otherwise; results for a given CPU and thread count are
+// deterministic. A slot of zero length (a phantom between coinciding nodes) exerts no force
+// instead of NaN; a model spring of zero length is outside ForceEvaluator's preconditions.
+
+/// Plain MSM: each slot's tension (spring plus damper) applied to both ends.
+void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+                     const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
+                     float beta, const SingleEndForces& forces);
+
+/// eMSM first pass: stores each slot's direct tension plus its damper's and 1 / L, and adds
+/// inflow * (direct tension) to the a ends' accumulators `j_a` and the b ends' `j_b`.
+void SingleInflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
+                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b);
+
+/// eMSM second pass: total tension = stored tension + outflow_a g_a + outflow_b g_b (g = J / W
+/// per node), applied to both ends.
+void SingleOutflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+                       const SingleNodeArrays& positions, const float* dispersion_per_weight,
+                       const float* tensions, const float* inverse_lengths,
+                       const SingleEndForces& forces);
+
+}  // namespace msm_sim::core

@@ -1,0 +1,190 @@
+// The single-precision spring loops (SpringPrecision::kSingle) against the double per-spring
+// loops, which the rest of the suite checks against theory.
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "mechanics/single_precision_kernels.h"
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/model/model_builder.h"
+
+namespace msm_sim::core {
+namespace {
+
+Eigen::Matrix3Xd Perturbed(const Eigen::Matrix3Xd& x0, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, amplitude);
+  Eigen::Matrix3Xd x = x0;
+  for (int i = 0; i < x.size(); ++i) x.data()[i] += noise(rng);
+  return x;
+}
+
+Eigen::Matrix3Xd Forces(ForceEvaluator* evaluator, const Eigen::Matrix3Xd& x,
+                        const Eigen::Matrix3Xd& v, double beta) {
+  // Added to a non-zero start, as a step does.
+  Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Ones(3, x.cols());
+  evaluator->AccumulateForces(x, v, beta, &forces);
+  return forces;
+}
+
+Eigen::Matrix3Xd Forces(const Model& model, SpringPrecision precision, const Eigen::Matrix3Xd& x,
+                        const Eigen::Matrix3Xd& v, double beta, int threads = 1) {
+  const SpringKernels kernels =
+      precision == SpringPrecision::kSingle ? SpringKernels::kAuto : SpringKernels::kPerSpring;
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels, threads);
+  evaluator.set_precision(precision);
+  return Forces(&evaluator, x, v, beta);
+}
+
+// The largest difference single precision may make to a node's force: every spring's length is
+// resolved to about 2^-24 of the body's extent (positions relative to node 0), so its tension to
+// k 2^-24 extent, its dispersed tension to (1 + 2|q|) times that. The errors of a node's springs
+// add like random numbers: measured 0.8-1.2 of that unit on these blocks, so 4 units bound them.
+// A kernel error shows far above it: a 1e-4 relative error in the b ends' dispersed tension
+// fails the eMSM cases, a swapped end weight fails them by orders of magnitude.
+double SingleBound(const Model& model) {
+  const Eigen::Vector3d extent =
+      model.rest_positions().rowwise().maxCoeff() - model.rest_positions().rowwise().minCoeff();
+  const double k_max =
+      *std::max_element(model.spring_stiffness().begin(), model.spring_stiffness().end());
+  const double q = std::abs(model.dispersion_fraction());
+  return 4.0 * (1.0 + 2.0 * q) * k_max * std::ldexp(extent.maxCoeff(), -24);
+}
+
+void ExpectClose(const Model& model, const Eigen::Matrix3Xd& single,
+                 const Eigen::Matrix3Xd& reference) {
+  ASSERT_EQ(single.cols(), reference.cols());
+  ASSERT_TRUE(single.allFinite());
+  const double bound = SingleBound(model);
+  const double scale = (reference.array() - 1.0).abs().maxCoeff();  // the start was 1
+  ASSERT_GT(scale, 1e3 * bound) << "the perturbation must load the springs well above the bound";
+  EXPECT_LE((single - reference).cwiseAbs().maxCoeff(), bound) << "force scale " << scale;
+}
+
+// Node-centred block: surface springs of unequal end weights, rows that end at the surface
+// (phantoms bridge them).
+Model Block(double poisson, double spacing = 0.01) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(0.1, 0.06, 0.05);
+  options.spacing = spacing;
+  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
+}
+
+class SinglePrecisionKernels : public ::testing::TestWithParam<std::pair<double, double>> {};
+
+TEST_P(SinglePrecisionKernels, MatchTheDoublePerSpringLoops) {
+  const auto [poisson, beta] = GetParam();
+  const Model model = Block(poisson);
+  // Away from the world's origin: the loops work relative to node 0.
+  const Eigen::Matrix3Xd x =
+      (Perturbed(model.rest_positions(), 5e-4, 1).colwise() + Eigen::Vector3d(3.0, -2.0, 1.0))
+          .eval();
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 2);
+  const Eigen::Matrix3Xd single = Forces(model, SpringPrecision::kSingle, x, v, beta);
+  ExpectClose(model, single, Forces(model, SpringPrecision::kDouble, x, v, beta));
+  // Each slot adds and subtracts the same force: momentum is conserved to the sums' rounding.
+  const Eigen::Vector3d net = (single.array() - 1.0).matrix().rowwise().sum();
+  EXPECT_LE(net.cwiseAbs().maxCoeff(), SingleBound(model));
+}
+
+// Plain MSM (nu = 1/4) and eMSM (nu = 0.45, 0.49, -0.5), without and with dampers.
+INSTANTIATE_TEST_SUITE_P(PlainAndDispersed, SinglePrecisionKernels,
+                         ::testing::Values(std::make_pair(0.25, 0.0), std::make_pair(0.25, 1e-3),
+                                           std::make_pair(0.45, 0.0), std::make_pair(0.45, 1e-3),
+                                           std::make_pair(0.49, 1e-3), std::make_pair(-0.5, 1e-3)));
+
+TEST(SinglePrecisionSchedule, PhantomsJoinABoxsRowsAndCarryNothing) {
+  const Model model = Block(0.45);
+  Eigen::VectorXd ones = Eigen::VectorXd::Ones(model.num_springs());
+  const auto springs =
+      SinglePrecisionSprings::Schedule(model, ones.data(), ones.data(), ones.data(), ones.data());
+  EXPECT_EQ(springs->num_slots(), model.num_springs() + springs->num_phantoms);
+  EXPECT_GT(springs->num_phantoms, 0);
+  // 10 x 6 x 5 nodes, 9 offsets: rows of 10 joined across their ends into long runs.
+  EXPECT_LT(springs->runs.size(), 40u);
+  int phantoms = 0;
+  for (int slot = 0; slot < springs->num_slots(); ++slot) {
+    if (springs->stiffness[slot] == 0.0f) {
+      ++phantoms;
+      EXPECT_EQ(springs->inflow_a[slot], 0.0f);
+      EXPECT_EQ(springs->outflow_b[slot], 0.0f);
+    }
+  }
+  EXPECT_EQ(phantoms, springs->num_phantoms);
+  for (const SingleRun& run : springs->runs) {
+    EXPECT_GE(run.count, 1);
+    EXPECT_LE(run.count, SinglePrecisionSprings::kMaxRunLength);
+    EXPECT_LT(run.a0 + run.offset + run.count - 1, model.num_nodes());
+  }
+}
+
+TEST(SinglePrecisionSchedule, ReversedSpringsKeepTheirEndWeights) {
+  // Springs from the higher index to the lower with unequal end weights, and a gap whose
+  // phantom joins two coinciding nodes (zero length: no NaN, no force).
+  ModelBuilder builder(Material::FromYoungsPoisson(1e4, 0.45, 1000.0));
+  for (int i = 0; i < 24; ++i) {
+    const int along = i < 12 ? i : i - 1;  // nodes 11 and 12 coincide
+    builder.AddNode(Eigen::Vector3d(0.01 * along, 0.0, 0.0), 0.1);
+  }
+  for (int i = 0; i < 23; ++i) {
+    if (i == 11) continue;
+    const SpringIndex s = builder.AddSpring(i + 1, i, 100.0 + i);
+    builder.SetDispersionWeight(s, i + 1, 1.5);
+    builder.SetDispersionWeight(s, i, 0.5);
+  }
+  builder.SetDispersionFraction(2.0);
+  const Model model = builder.Build(1e-6, 0.01);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 1e-3, 3);
+  Eigen::Matrix3Xd coinciding = x;  // the phantom between nodes 11 and 12 has zero length
+  coinciding.col(12) = coinciding.col(11);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+  for (const Eigen::Matrix3Xd* positions :
+       {&x, static_cast<const Eigen::Matrix3Xd*>(&coinciding)}) {
+    ExpectClose(model, Forces(model, SpringPrecision::kSingle, *positions, v, 1e-3),
+                Forces(model, SpringPrecision::kDouble, *positions, v, 1e-3));
+  }
+}
+
+TEST(SinglePrecisionEvaluator, RecordsNoTensionsAndLinearizesInDouble) {
+  const Model model = Block(0.45);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 4);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+  const Eigen::Matrix3Xd probe = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 1.0, 5);
+  ForceEvaluator single(model);
+  single.set_precision(SpringPrecision::kSingle);
+  EXPECT_EQ(single.precision(), SpringPrecision::kSingle);
+  Forces(&single, x, v, 0.0);
+  EXPECT_THROW(single.total_tensions(), std::logic_error);
+  // The stiffness is the double one, and the evaluator stays single afterwards.
+  ForceEvaluator exact(model);
+  Eigen::Matrix3Xd products[2];
+  ForceEvaluator* evaluators[2] = {&single, &exact};
+  for (int e = 0; e < 2; ++e) {
+    evaluators[e]->Linearize(x);
+    evaluators[e]->ApplyStiffness(probe, &products[e]);
+  }
+  EXPECT_EQ(products[0], products[1]);
+  EXPECT_EQ(single.precision(), SpringPrecision::kSingle);
+  EXPECT_NO_THROW(single.total_tensions());  // Linearize evaluated in double
+  ExpectClose(model, Forces(&single, x, v, 0.0), Forces(&exact, x, v, 0.0));
+  single.set_precision(SpringPrecision::kDouble);
+  EXPECT_EQ(Forces(&single, x, v, 0.0), Forces(&exact, x, v, 0.0));
+}
+
+TEST(SinglePrecisionEvaluator, TwoThreadsAgreeAndRepeat) {
+  // Above the evaluator's threshold for threads (50,000 springs).
+  const Model model = Block(0.45, 0.0035);
+  ASSERT_GE(model.num_springs(), 50'000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 6);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 7);
+  const Eigen::Matrix3Xd two = Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 2);
+  EXPECT_EQ(two, Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 2));
+  ExpectClose(model, two, Forces(model, SpringPrecision::kDouble, x, v, 1e-3));
+}
+
+}  // namespace
+}  // namespace msm_sim::core
