@@ -67,7 +67,7 @@ struct ContactArguments {
   double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
   int threads = 1;                      ///< realtime: WorldOptions::threads
-  std::string precision = "double";     ///< double | single (WorldOptions::spring_precision)
+  std::string precision = "single";     ///< single | double (WorldOptions::spring_precision)
 };
 
 /// `msm_lab fit`: the Young's modulus that reproduces a measured indentation curve.

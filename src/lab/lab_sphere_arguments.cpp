@@ -21,7 +21,7 @@ void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
       ->check(CLI::IsMember({"explicit", "implicit"}));
   command
       ->add_option("--precision", contact->precision,
-                   "the spring loops' arithmetic: double | single (cubic lattices; "
+                   "the spring loops' arithmetic: single | double (cubic lattices; "
                    "docs/physics.md section 9)")
       ->capture_default_str()
       ->check(CLI::IsMember({"double", "single"}));

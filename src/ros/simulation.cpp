@@ -24,6 +24,7 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   options.time_step_safety = config.time_step_safety;
   options.integrator = config.integrator;
   options.threads = config.threads;
+  options.spring_precision = config.spring_precision;
   options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
   return options;
 }

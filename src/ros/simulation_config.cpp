@@ -31,8 +31,8 @@ using param::Vector;
 
 // The keys each dictionary of the configuration takes (README "msm_sim_node").
 const std::set<std::string> kWorldKeys = {
-    "frame",     "gravity",   "ground",           "time_step",  "publish_rate",
-    "real_time", "max_force", "time_step_safety", "integrator", "threads"};
+    "frame",     "gravity",          "ground",     "time_step", "publish_rate",    "real_time",
+    "max_force", "time_step_safety", "integrator", "threads",   "spring_precision"};
 const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout", "links",
                                           "link_friction"};
 const std::set<std::string> kMarkerKeys = {"colour_by_strain", "strain_range", "nodes", "springs"};
@@ -69,6 +69,12 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
   if (!core::ParseIntegrator(integrator, &config.integrator)) {
     FailNotOneOf(integrator, {"explicit", "implicit"}, path + "/integrator");
   }
+  const std::string precision = Text(world, "spring_precision", "single", path);
+  if (precision != "single" && precision != "double") {
+    FailNotOneOf(precision, {"single", "double"}, path + "/spring_precision");
+  }
+  config.spring_precision =
+      precision == "single" ? core::SpringPrecision::kSingle : core::SpringPrecision::kDouble;
   return config;
 }
 

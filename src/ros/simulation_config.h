@@ -88,6 +88,8 @@ struct WorldConfig {
   core::Integrator integrator = core::Integrator::kExplicit;
   /// The most threads a body's spring passes use (bodies of 50,000 springs or more).
   int threads = 1;
+  /// The spring loops' arithmetic in the dynamics (core::WorldOptions::spring_precision).
+  core::SpringPrecision spring_precision = core::SpringPrecision::kSingle;
 };
 
 struct MarkerConfig {

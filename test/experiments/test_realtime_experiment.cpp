@@ -48,9 +48,10 @@ TEST(RealtimeExperiment, SinglePrecisionSpringsPressTheSame) {
   const auto block = SmallBlock();
   RealtimeExperimentOptions options;
   options.seconds = 0.05;
-  const RealtimeExperimentResult exact = RunRealtimeExperiment(block, options);
-  options.spring_precision = SpringPrecision::kSingle;
+  EXPECT_EQ(options.spring_precision, SpringPrecision::kSingle);  // the World's default
   const RealtimeExperimentResult single = RunRealtimeExperiment(block, options);
+  options.spring_precision = SpringPrecision::kDouble;
+  const RealtimeExperimentResult exact = RunRealtimeExperiment(block, options);
   EXPECT_EQ(single.substeps, exact.substeps);
   EXPECT_NE(single.peak_force, exact.peak_force);  // the single loops did run
   EXPECT_NEAR(single.peak_force, exact.peak_force, 1e-4 * exact.peak_force);

@@ -66,13 +66,16 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   XmlRpc::XmlRpcValue objects;
   objects[0] = object;
   scene.setParam("objects", objects);
-  EXPECT_EQ(msm_sim::ros_interface::LoadSimulationConfig(scene).world.integrator,
-            msm_sim::core::Integrator::kExplicit);  // the default
+  const auto defaults = msm_sim::ros_interface::LoadSimulationConfig(scene);
+  EXPECT_EQ(defaults.world.integrator, msm_sim::core::Integrator::kExplicit);
+  EXPECT_EQ(defaults.world.spring_precision, msm_sim::core::SpringPrecision::kSingle);
   scene.setParam("world/integrator", std::string("implicit"));
   scene.setParam("world/time_step_safety", 0.4);
+  scene.setParam("world/spring_precision", std::string("double"));
   const auto config = msm_sim::ros_interface::LoadSimulationConfig(scene);
   EXPECT_EQ(config.world.integrator, msm_sim::core::Integrator::kImplicit);
   EXPECT_EQ(config.world.time_step_safety, 0.4);
+  EXPECT_EQ(config.world.spring_precision, msm_sim::core::SpringPrecision::kDouble);
   scene.deleteParam("");
 }
 
@@ -121,6 +124,7 @@ TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("world/time_step_safety", 1.5, "~world/time_step_safety");
   ExpectConfigError("world/time_step_safety", 0.0, "~world/time_step_safety");
   ExpectConfigError("world/integrator", std::string("rk4"), "~world/integrator");
+  ExpectConfigError("world/spring_precision", std::string("half"), "~world/spring_precision");
   XmlRpc::XmlRpcValue bad_clamp;
   bad_clamp[0]["name"] = std::string("c");
   ExpectConfigError("clamps", bad_clamp, "~objects[0]/clamps[0]");

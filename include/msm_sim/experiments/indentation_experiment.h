@@ -30,7 +30,7 @@ struct IndentationExperimentOptions {
   double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
-  SpringPrecision spring_precision = SpringPrecision::kDouble;  ///< WorldOptions::spring_precision
+  SpringPrecision spring_precision = SpringPrecision::kSingle;  ///< WorldOptions::spring_precision
   /// Penetration recovery (docs/physics.md §7.2), m, finite, >= 0. > 0: instead of pressing, the
   /// sphere starts this far past first contact (its lowest point start_depth below the height at
   /// which it would touch the first collision sphere under it, as if teleported into the

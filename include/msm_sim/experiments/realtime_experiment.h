@@ -27,7 +27,7 @@ struct RealtimeExperimentOptions {
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
   int threads = 1;  ///< >= 1: WorldOptions::threads (spring passes of >= 50,000 springs)
-  SpringPrecision spring_precision = SpringPrecision::kDouble;  ///< WorldOptions::spring_precision
+  SpringPrecision spring_precision = SpringPrecision::kSingle;  ///< WorldOptions::spring_precision
 };
 
 struct RealtimeExperimentResult {

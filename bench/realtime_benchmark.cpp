@@ -1,0 +1,63 @@
+// Google Benchmark of the real-time issue's scene (`msm_lab realtime`): the 10 x 10 x 5 cm block
+// (E = 200 kPa, rho = 1100, dampers beta = 1e-4 s) on the ground, a 1 cm sphere pressing into
+// its top at 1 cm/s, 1 ms World steps on one thread, explicit integrator. Each iteration runs
+// 0.1 s of simulated time through RunRealtimeExperiment and counts only its stepping (manual
+// time, the World's set-up and stable-step estimate excluded); `real_time_factor` is simulated
+// over stepping time. Variants: node spacing, Poisson's ratio and the spring loops' precision
+// (WorldOptions::spring_precision). Compare variants interleaved: --benchmark_filter=Realtime
+// --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
+#include <map>
+#include <memory>
+#include <utility>
+
+#include <benchmark/benchmark.h>
+
+#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/experiments/realtime_experiment.h"
+
+namespace msm_sim::core {
+namespace {
+
+// Built once per (spacing, nu): a 4,000-node block takes a few tenths of a second.
+std::shared_ptr<const Model> RealtimeBlock(double spacing, double poisson) {
+  static std::map<std::pair<double, double>, std::shared_ptr<const Model>> blocks;
+  auto& block = blocks[{spacing, poisson}];
+  if (!block) {
+    CubicLatticeOptions lattice;
+    lattice.size = Eigen::Vector3d(0.1, 0.1, 0.05);
+    lattice.spacing = spacing;
+    block = std::make_shared<const Model>(
+        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice));
+  }
+  return block;
+}
+
+// Arguments: spacing (um), nu (per mille), precision (0 double, 1 single).
+void BM_RealtimeBlock(benchmark::State& state) {
+  const double spacing = state.range(0) * 1e-6;
+  const double poisson = state.range(1) * 1e-3;
+  const auto block = RealtimeBlock(spacing, poisson);
+  RealtimeExperimentOptions options;
+  options.seconds = 0.1;
+  options.spring_precision =
+      state.range(2) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble;
+  RealtimeExperimentResult result;
+  for (auto _ : state) {
+    result = RunRealtimeExperiment(block, options);
+    state.SetIterationTime(result.wall_seconds);
+  }
+  state.counters["nodes"] = result.nodes;
+  state.counters["substeps"] = result.substeps;
+  state.counters["real_time_factor"] = result.real_time_factor;
+  state.counters["peak_force_N"] = result.peak_force;
+}
+BENCHMARK(BM_RealtimeBlock)
+    ->ArgNames({"spacing_um", "nu_permille", "single"})
+    ->ArgsProduct({{5000}, {250, 490}, {0, 1}})
+    ->ArgsProduct({{4000}, {250, 490}, {0, 1}})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
+
+}  // namespace
+}  // namespace msm_sim::core
