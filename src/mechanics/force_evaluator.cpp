@@ -413,18 +413,14 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   float* f = x + 6 * n;
   // Relative to node 0: a float resolves 6e-8 of the body's size, not of its distance from the
   // world's origin.
-  const double* p = positions.data();
-  const double origin[3] = {p[0], p[1], p[2]};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (int d = 0; d < 3; ++d) x[d * n + i] = static_cast<float>(p[3 * i + d] - origin[d]);
-  }
+  const double origin[3] = {positions(0, 0), positions(1, 0), positions(2, 0)};
+  ToSingleNodeArrays(positions.data(), n, origin, x);
   const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
   const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
   const SingleNodeArrays* velocities = nullptr;
   if (damping.velocities != nullptr) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      for (int d = 0; d < 3; ++d) v[d * n + i] = static_cast<float>(damping.velocities[3 * i + d]);
-    }
+    const double zero[3] = {0.0, 0.0, 0.0};
+    ToSingleNodeArrays(damping.velocities, n, zero, v);
     velocities = &v_arrays;
   }
   const auto beta = static_cast<float>(damping.beta);
@@ -448,22 +444,15 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
                        single_inverse_lengths_.data(), target, target + n);
     });
     single_dispersion_.resize(n);
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const double j = static_cast<double>(single_accumulators_[i]) + single_accumulators_[n + i];
-      single_dispersion_[i] = static_cast<float>(j * inverse_star_weight_[i]);
-    }
+    SingleDispersionPerWeight(single_accumulators_.data(), inverse_star_weight_.data(), n,
+                              single_dispersion_.data());
     ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
       SingleOutflowRuns(*single_, begin, end, x_arrays, single_dispersion_.data(),
                         single_tensions_.data(), single_inverse_lengths_.data(),
                         end_forces(target));
     });
   }
-  double* out = forces->data();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (int d = 0; d < 3; ++d) {
-      out[3 * i + d] += static_cast<double>(f[d * n + i]) + static_cast<double>(f[(3 + d) * n + i]);
-    }
-  }
+  AddSingleEndForces(f, n, forces->data());
   totals_recorded_ = false;
   totals_scheduled_ = false;
 }

@@ -205,6 +205,44 @@ inline __attribute__((always_inline)) void OutflowRun(
 }  // namespace
 
 MSM_SIM_SIMD_CLONES
+void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], float* arrays) {
+  const double* __restrict from = vectors;
+  float* __restrict x = arrays;
+  float* __restrict y = arrays + n;
+  float* __restrict z = arrays + 2 * n;
+  const double ox = origin[0], oy = origin[1], oz = origin[2];
+  for (long i = 0; i < n; ++i) {
+    x[i] = static_cast<float>(from[3 * i] - ox);
+    y[i] = static_cast<float>(from[3 * i + 1] - oy);
+    z[i] = static_cast<float>(from[3 * i + 2] - oz);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
+void SingleDispersionPerWeight(const float* accumulators, const double* inverse_star_weight, long n,
+                               float* dispersion_per_weight) {
+  const float* __restrict ja = accumulators;
+  const float* __restrict jb = accumulators + n;
+  const double* __restrict w = inverse_star_weight;
+  float* __restrict g = dispersion_per_weight;
+  for (long i = 0; i < n; ++i) {
+    g[i] = static_cast<float>((static_cast<double>(ja[i]) + static_cast<double>(jb[i])) * w[i]);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
+void AddSingleEndForces(const float* end_forces, long n, double* vectors) {
+  const float* __restrict a = end_forces;
+  const float* __restrict b = end_forces + 3 * n;
+  double* __restrict to = vectors;
+  for (long i = 0; i < n; ++i) {
+    to[3 * i] += static_cast<double>(a[i]) + static_cast<double>(b[i]);
+    to[3 * i + 1] += static_cast<double>(a[n + i]) + static_cast<double>(b[n + i]);
+    to[3 * i + 2] += static_cast<double>(a[2 * n + i]) + static_cast<double>(b[2 * n + i]);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
 void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                      float beta, const SingleEndForces& forces) {
