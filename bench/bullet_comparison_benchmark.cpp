@@ -11,7 +11,8 @@
 //
 // msm_sim (World::Step at the stable step: exactly one substep):
 //   - eMSM spring forces, two-pass dispersion (nu = 0.45), with spring dampers c = beta k,
-//     beta = 1e-4 s; gravity;
+//     beta = 1e-4 s, in single precision (the World's default, as Bullet's soft body) or double
+//     (the "single" argument); gravity;
 //   - position Verlet (half drift, kick, half drift);
 //   - microcollisions of every border node (its collision sphere, radius = mean half spring
 //     length) against the ground plane, with Coulomb friction, restitution and 8 Gauss-Seidel
@@ -108,13 +109,17 @@ double TopLayerDrop(const Eigen::Matrix3Xd& rest, const std::vector<double>& z_n
   return drop / count;
 }
 
-// msm_sim exactly as in BM_DynamicsStep12k, settled once and kept for every repetition.
-// The spring passes' threads are set per benchmark (World::SetThreads: 1 or 2), as the README's
-// figures were measured; a World's default is one.
-WorldOptions ThreadedWorld() { return WorldOptions{}; }
+// msm_sim exactly as in BM_DynamicsStep12k, settled once per spring precision and kept for
+// every repetition. The spring passes' threads are set per benchmark (World::SetThreads: 1 or
+// 2), as the README's figures were measured; a World's default is one.
+WorldOptions WorldWith(SpringPrecision precision) {
+  WorldOptions options;
+  options.spring_precision = precision;
+  return options;
+}
 
 struct MsmScene {
-  MsmScene() : model(Lattice12k()) {
+  explicit MsmScene(SpringPrecision precision) : model(Lattice12k()), world(WorldWith(precision)) {
     BodyOptions options;
     options.damping_beta = kDampingBeta;
     body = world.AddBody("block", model, options);
@@ -125,15 +130,16 @@ struct MsmScene {
     for (int settle = 0; settle < kSettleSteps; ++settle) world.Step(step);  // in contact, loaded
   }
   std::shared_ptr<const Model> model;
-  World world{ThreadedWorld()};
+  World world;
   int body = 0;
   double ground_height = 0.0;  // m
   double step = 0.0;           // s
 };
 
-MsmScene& Msm() {
-  static MsmScene scene;
-  return scene;
+MsmScene& Msm(SpringPrecision precision = SpringPrecision::kSingle) {
+  static MsmScene single(SpringPrecision::kSingle);
+  static MsmScene exact(SpringPrecision::kDouble);
+  return precision == SpringPrecision::kSingle ? single : exact;
 }
 
 // Bullet's soft body on the same nodes, springs, masses, step, gravity and ground, settled once.
@@ -251,7 +257,7 @@ BulletScene& Bullet() {
 }
 
 void BM_MsmSimStep12k(benchmark::State& state) {
-  MsmScene& scene = Msm();
+  MsmScene& scene = Msm(state.range(1) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble);
   scene.world.SetThreads(static_cast<int>(state.range(0)));
   int contacts = 0;
   for (auto _ : state) {
@@ -269,9 +275,8 @@ void BM_MsmSimStep12k(benchmark::State& state) {
   state.counters["top_drop_mm"] = 1e3 * TopLayerDrop(scene.model->rest_positions(), z);
 }
 BENCHMARK(BM_MsmSimStep12k)
-    ->ArgName("threads")
-    ->Arg(1)
-    ->Arg(2)
+    ->ArgNames({"threads", "single"})
+    ->ArgsProduct({{1, 2}, {1, 0}})
     ->Unit(benchmark::kMicrosecond)
     ->MinTime(2.0)
     ->UseRealTime();

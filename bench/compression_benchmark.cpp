@@ -52,8 +52,10 @@ BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 // Times AccumulateForces on the model compressed uniformly by 1 %, with spring dampers
 // (beta = 1e-4 s, as in a dynamics step) at random velocities when `damped`.
 void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state,
-                          SpringKernels kernels = SpringKernels::kAuto, bool damped = false) {
+                          SpringKernels kernels = SpringKernels::kAuto, bool damped = false,
+                          SpringPrecision precision = SpringPrecision::kDouble) {
   ForceEvaluator evaluator(model, passes, kernels, BenchThreads());
+  evaluator.set_precision(precision);
   const Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
   const Eigen::Matrix3Xd velocities = 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_nodes());
   Eigen::Matrix3Xd forces(3, model.num_nodes());
@@ -88,6 +90,14 @@ void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPa
 void BM_SpringKernels12k(benchmark::State& state, double poisson, SpringKernels kernels) {
   TimeForceEvaluations(Block12k(poisson), DispersionPasses::kTwoPass, state, kernels, true);
 }
+// The single-precision loops (the dynamics' default, WorldOptions::spring_precision) on the same
+// block with dampers: plain MSM against the two-pass eMSM (issue target: eMSM <= 1.6 x plain).
+void BM_SingleSpringLoops12k(benchmark::State& state, double poisson) {
+  TimeForceEvaluations(Block12k(poisson), DispersionPasses::kTwoPass, state, SpringKernels::kAuto,
+                       true, SpringPrecision::kSingle);
+}
+BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, plain, 0.25)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, emsm, 0.45)->Unit(benchmark::kMicrosecond);
 // One stiffness product (the implicit integrator's CG iteration) on the block linearised at 1 %
 // compression, run kernels against per-spring loops.
 void BM_StiffnessProduct12k(benchmark::State& state, double poisson, SpringKernels kernels) {

@@ -195,14 +195,24 @@ void World::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     if (!colliders_[c].enabled) continue;
     const ColliderFrame& frame = frames[c];
-    if (frame.bounded ? (x.array() < frame.world_box.min().array() - radius).any() ||
-                            (x.array() > frame.world_box.max().array() + radius).any()
-                      : frame.plane_normal.dot(x) - frame.plane_offset >= radius) {
+    if (!frame.bounded) {
+      // A plane in the world frame directly: the general path below (into the plane's frame,
+      // its SignedDistance, back out) gives the same contact and was most of the detection's
+      // cost for a body resting on the ground.
+      const double distance = frame.plane_normal.dot(x) - frame.plane_offset;
+      if (distance >= radius) continue;
+      const Eigen::Vector3d point = x - distance * frame.plane_normal;
+      contacts->push_back({static_cast<int>(c), frame.plane_normal, point,
+                           colliders_[c].VelocityAt(point), distance});
+      continue;
+    }
+    if ((x.array() < frame.world_box.min().array() - radius).any() ||
+        (x.array() > frame.world_box.max().array() + radius).any()) {
       continue;
     }
     const Eigen::Vector3d local = frame.inverse * x;
-    if (frame.bounded && ((local.array() < frame.lo.array() - radius).any() ||
-                          (local.array() > frame.hi.array() + radius).any())) {
+    if ((local.array() < frame.lo.array() - radius).any() ||
+        (local.array() > frame.hi.array() + radius).any()) {
       continue;
     }
     Eigen::Vector3d normal, closest;
