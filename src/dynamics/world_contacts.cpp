@@ -66,10 +66,11 @@ double World::Friction(const Body& body, int collider) const {
 void World::CollideWithColliders(Body* body, int* microcollisions) {
   if (colliders_.empty()) return;
   const std::vector<ColliderFrame> frames = FrameColliders();
+  FlagNodesNearColliders(frames, body);
   std::vector<NodeContact> contacts;
   for (std::size_t k = 0; k < body->border.nodes.size(); ++k) {
     const NodeIndex node = body->border.nodes[k];
-    if (body->constrained[node]) continue;
+    if (!body->near_collider[k] || body->constrained[node]) continue;
     DetectColliderContacts(frames, body->state.positions.col(node),
                            kPatchReach * body->border.radii[k], &contacts);
     if (contacts.empty()) continue;
@@ -86,6 +87,39 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
     }
     body->state.velocities.col(node) = v;
     RecoverFromColliders(body, node, body->border.radii[k], contacts);
+  }
+}
+
+void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body) const {
+  // One tight pass per collider over the border nodes: most of them are far from every
+  // collider (a resting block's sides and top), and rejecting them node by node inside
+  // DetectColliderContacts was most of the detection's cost.
+  const std::size_t count = body->border.nodes.size();
+  body->near_collider.assign(count, 0);
+  char* __restrict near = body->near_collider.data();
+  const NodeIndex* nodes = body->border.nodes.data();
+  const double* radii = body->border.radii.data();
+  const double* x = body->state.positions.data();
+  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+    if (!colliders_[c].enabled) continue;
+    const ColliderFrame& frame = frames[c];
+    if (!frame.bounded) {
+      const Eigen::Vector3d& n = frame.plane_normal;
+      for (std::size_t k = 0; k < count; ++k) {
+        const double* p = x + 3 * static_cast<std::ptrdiff_t>(nodes[k]);
+        const double distance = n.x() * p[0] + n.y() * p[1] + n.z() * p[2] - frame.plane_offset;
+        near[k] |= static_cast<char>(distance < kPatchReach * radii[k]);
+      }
+      continue;
+    }
+    const Eigen::Vector3d lo = frame.world_box.min(), hi = frame.world_box.max();
+    for (std::size_t k = 0; k < count; ++k) {
+      const double* p = x + 3 * static_cast<std::ptrdiff_t>(nodes[k]);
+      const double reach = kPatchReach * radii[k];
+      near[k] |= static_cast<char>(p[0] >= lo.x() - reach && p[0] <= hi.x() + reach &&
+                                   p[1] >= lo.y() - reach && p[1] <= hi.y() + reach &&
+                                   p[2] >= lo.z() - reach && p[2] <= hi.z() + reach);
+    }
   }
 }
 

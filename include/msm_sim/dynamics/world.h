@@ -189,6 +189,7 @@ class World {
     std::vector<ImpulseSum> impulses;                 // colliders, then groups (during a Step)
     std::vector<ContactWrench> wrenches;              // colliders, then groups (of the last Step)
     std::vector<ContactPoint> contact_points;         // of the last Step, if recorded
+    std::vector<char> near_collider;  // per border node, this substep: within reach of one
   };
 
   // Where a Step started, for a rejected one to return to (bodies keep their own saved states).
@@ -298,6 +299,9 @@ class World {
   void CollideWithColliders(Body* body, int* microcollisions);
   /// Each collider's inverse pose and bounds (computed once per body and substep).
   std::vector<ColliderFrame> FrameColliders() const;
+  /// Flags in body->near_collider the border nodes that pass DetectColliderContacts' first
+  /// tests (a plane's distance, a bounded collider's world box) for some enabled collider.
+  void FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body) const;
   /// Replaces *contacts with the enabled colliders a node at x with this radius (m) touches.
   /// Precondition: frames from FrameColliders for the colliders' current poses.
   void DetectColliderContacts(const std::vector<ColliderFrame>& frames, const Eigen::Vector3d& x,
