@@ -165,14 +165,13 @@ void ForceEvaluator::ForShares(int count, Scalar* target, Eigen::Index target_si
   // the shares touch mostly different nodes) and scatters into its own buffer; the buffers
   // are added in share order, so a given thread count always gives the same sums, whichever
   // thread runs a share.
-  auto& scratch = [this]() -> auto& {
-    if constexpr (std::is_same_v<Scalar, float>) {
-      return single_scratch_;
-    } else {
-      return scratch_;
-    }
+  std::vector<Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>* buffers = nullptr;
+  if constexpr (std::is_same_v<Scalar, float>) {
+    buffers = &single_scratch_;
+  } else {
+    buffers = &scratch_;
   }
-  ();
+  auto& scratch = *buffers;
   scratch.resize(threads - 1);
   for (auto& buffer : scratch) buffer.setZero(target_size);
   const std::function<void(int)> share = [&](int t) {
@@ -443,9 +442,11 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       SingleInflowRuns(*single_, begin, end, x_arrays, velocities, beta, single_tensions_.data(),
                        single_inverse_lengths_.data(), target, target + n);
     });
-    single_dispersion_.resize(n);
-    SingleDispersionPerWeight(single_accumulators_.data(), inverse_star_weight_.data(), n,
-                              single_dispersion_.data());
+    // J and g in double as well: a one-pass evaluation after this one lags on them.
+    accumulator_ =
+        single_accumulators_.head(n).cast<double>() + single_accumulators_.tail(n).cast<double>();
+    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
+    single_dispersion_ = dispersion_per_weight_.cast<float>();
     ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
       SingleOutflowRuns(*single_, begin, end, x_arrays, single_dispersion_.data(),
                         single_tensions_.data(), single_inverse_lengths_.data(),

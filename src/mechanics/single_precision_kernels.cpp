@@ -8,6 +8,8 @@
 #include <numeric>
 #include <utility>
 
+#include "mechanics/simd_clones.h"
+
 namespace msm_sim::core {
 
 std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
@@ -59,12 +61,6 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
   return springs;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define MSM_SIM_SIMD_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define MSM_SIM_SIMD_CLONES
-#endif
-
 namespace {
 
 // 1 / L, finite for a slot of zero length (see the header): its r is then 0, and so is its
@@ -73,6 +69,21 @@ namespace {
 // control flow, the division it guards may trap).
 inline __attribute__((always_inline)) float InverseLength(float length) {
   return 1.0f / (length + 1e-30f);
+}
+
+// Adds slot i's force (sx, sy, sz) to its a end and subtracts it from its b end (arrays from the
+// run's a0 and a0 + offset).
+inline __attribute__((always_inline)) void ApplyToEnds(int i, float sx, float sy, float sz,
+                                                       float* __restrict fax, float* __restrict fay,
+                                                       float* __restrict faz, float* __restrict fbx,
+                                                       float* __restrict fby,
+                                                       float* __restrict fbz) {
+  fax[i] += sx;
+  fay[i] += sy;
+  faz[i] += sz;
+  fbx[i] -= sx;
+  fby[i] -= sy;
+  fbz[i] -= sz;
 }
 
 // The damper's tension beta k (v_b - v_a) . r / L of slot i, offset d, velocities from the
@@ -111,12 +122,7 @@ inline __attribute__((always_inline)) void PlainRun(
     if constexpr (Damped)
       t += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
     const float scale = t * inverse_length;
-    fax[i] += scale * rx;
-    fay[i] += scale * ry;
-    faz[i] += scale * rz;
-    fbx[i] -= scale * rx;
-    fby[i] -= scale * ry;
-    fbz[i] -= scale * rz;
+    ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
   }
 }
 
@@ -193,12 +199,7 @@ inline __attribute__((always_inline)) void OutflowRun(
   for (int i = 0; i < n; ++i) {
     const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
     const float scale = (t[i] + out_a[i] * g[i] + out_b[i] * g[i + d]) * inverse[i];
-    fax[i] += scale * rx;
-    fay[i] += scale * ry;
-    faz[i] += scale * rz;
-    fbx[i] -= scale * rx;
-    fby[i] -= scale * ry;
-    fbz[i] -= scale * rz;
+    ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
   }
 }
 
@@ -215,18 +216,6 @@ void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], f
     x[i] = static_cast<float>(from[3 * i] - ox);
     y[i] = static_cast<float>(from[3 * i + 1] - oy);
     z[i] = static_cast<float>(from[3 * i + 2] - oz);
-  }
-}
-
-MSM_SIM_SIMD_CLONES
-void SingleDispersionPerWeight(const float* accumulators, const double* inverse_star_weight, long n,
-                               float* dispersion_per_weight) {
-  const float* __restrict ja = accumulators;
-  const float* __restrict jb = accumulators + n;
-  const double* __restrict w = inverse_star_weight;
-  float* __restrict g = dispersion_per_weight;
-  for (long i = 0; i < n; ++i) {
-    g[i] = static_cast<float>((static_cast<double>(ja[i]) + static_cast<double>(jb[i])) * w[i]);
   }
 }
 

@@ -72,14 +72,10 @@ struct SingleEndForces {
 // deterministic. A slot of zero length (a phantom between coinciding nodes) exerts no force
 // instead of NaN; a model spring of zero length is outside ForceEvaluator's preconditions.
 
-// The layout conversions around the loops, vectorised like them (they were 8 % of a step).
+// The layout conversions around the loops, vectorised like them.
 
 /// Rounds n column-major 3-vectors minus `origin` into float x, y, z blocks of n (`arrays`).
 void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], float* arrays);
-
-/// g = (J_a + J_b) / W per node, J summed in double: `accumulators` holds J_a then J_b (n each).
-void SingleDispersionPerWeight(const float* accumulators, const double* inverse_star_weight, long n,
-                               float* dispersion_per_weight);
 
 /// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) to n
 /// column-major 3-vectors.

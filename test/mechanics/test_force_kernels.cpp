@@ -1,6 +1,5 @@
 // The vectorised run kernels (ForceEvaluator with SpringKernels::kAuto on a lattice in rows)
 // against the per-spring loops, which the rest of the suite checks against theory.
-#include <random>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -8,17 +7,10 @@
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_builder.h"
+#include "perturbed_positions.h"
 
 namespace msm_sim::core {
 namespace {
-
-Eigen::Matrix3Xd Perturbed(const Eigen::Matrix3Xd& x0, double amplitude, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, amplitude);
-  Eigen::Matrix3Xd x = x0;
-  for (int i = 0; i < x.size(); ++i) x.data()[i] += noise(rng);
-  return x;
-}
 
 struct Evaluation {
   Eigen::Matrix3Xd forces;

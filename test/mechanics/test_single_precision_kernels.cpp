@@ -2,7 +2,6 @@
 // loops, which the rest of the suite checks against theory.
 #include <algorithm>
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -11,17 +10,10 @@
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_builder.h"
+#include "perturbed_positions.h"
 
 namespace msm_sim::core {
 namespace {
-
-Eigen::Matrix3Xd Perturbed(const Eigen::Matrix3Xd& x0, double amplitude, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> noise(0.0, amplitude);
-  Eigen::Matrix3Xd x = x0;
-  for (int i = 0; i < x.size(); ++i) x.data()[i] += noise(rng);
-  return x;
-}
 
 Eigen::Matrix3Xd Forces(ForceEvaluator* evaluator, const Eigen::Matrix3Xd& x,
                         const Eigen::Matrix3Xd& v, double beta) {
@@ -173,6 +165,20 @@ TEST(SinglePrecisionEvaluator, RecordsNoTensionsAndLinearizesInDouble) {
   ExpectClose(model, Forces(&single, x, v, 0.0), Forces(&exact, x, v, 0.0));
   single.set_precision(SpringPrecision::kDouble);
   EXPECT_EQ(Forces(&single, x, v, 0.0), Forces(&exact, x, v, 0.0));
+}
+
+TEST(SinglePrecisionEvaluator, OnePassDispersionLagsOnTheSingleEvaluation) {
+  // One-pass dispersion: the first evaluation is two-pass (here in single precision), the later
+  // ones lag (double per-spring loop) on the accumulators it left, at new positions each time.
+  const Model model = Block(0.45);
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+  ForceEvaluator single(model, DispersionPasses::kOnePass);
+  single.set_precision(SpringPrecision::kSingle);
+  ForceEvaluator exact(model, DispersionPasses::kOnePass, SpringKernels::kPerSpring);
+  for (unsigned evaluation = 0; evaluation < 3; ++evaluation) {
+    const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 10 + evaluation);
+    ExpectClose(model, Forces(&single, x, v, 0.0), Forces(&exact, x, v, 0.0));
+  }
 }
 
 TEST(SinglePrecisionEvaluator, TwoThreadsAgreeAndRepeat) {
