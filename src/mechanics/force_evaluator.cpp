@@ -443,10 +443,11 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
                        single_inverse_lengths_.data(), target, target + n);
     });
     // J and g in double as well: a one-pass evaluation after this one lags on them.
-    accumulator_ =
-        single_accumulators_.head(n).cast<double>() + single_accumulators_.tail(n).cast<double>();
-    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
-    single_dispersion_ = dispersion_per_weight_.cast<float>();
+    accumulator_.resize(n);
+    dispersion_per_weight_.resize(n);
+    single_dispersion_.resize(n);
+    SingleDispersion(single_accumulators_.data(), inverse_star_weight_.data(), n,
+                     accumulator_.data(), dispersion_per_weight_.data(), single_dispersion_.data());
     ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
       SingleOutflowRuns(*single_, begin, end, x_arrays, single_dispersion_.data(),
                         single_tensions_.data(), single_inverse_lengths_.data(),

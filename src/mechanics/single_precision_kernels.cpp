@@ -220,6 +220,22 @@ void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], f
 }
 
 MSM_SIM_SIMD_CLONES
+void SingleDispersion(const float* accumulators, const double* inverse_star_weight, long n,
+                      double* j, double* g, float* g_single) {
+  const float* __restrict ja = accumulators;
+  const float* __restrict jb = accumulators + n;
+  const double* __restrict w = inverse_star_weight;
+  double* __restrict j_out = j;
+  double* __restrict g_out = g;
+  float* __restrict gs = g_single;
+  for (long i = 0; i < n; ++i) {
+    j_out[i] = static_cast<double>(ja[i]) + static_cast<double>(jb[i]);
+    g_out[i] = j_out[i] * w[i];
+    gs[i] = static_cast<float>(g_out[i]);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
 void AddSingleEndForces(const float* end_forces, long n, double* vectors) {
   const float* __restrict a = end_forces;
   const float* __restrict b = end_forces + 3 * n;

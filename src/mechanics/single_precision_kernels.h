@@ -77,6 +77,11 @@ struct SingleEndForces {
 /// Rounds n column-major 3-vectors minus `origin` into float x, y, z blocks of n (`arrays`).
 void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], float* arrays);
 
+/// From the a ends' and the b ends' accumulators (`accumulators`: J_a then J_b, n each): J =
+/// J_a + J_b and g = J / W (`inverse_star_weight` = 1 / W) in double, and g rounded to float.
+void SingleDispersion(const float* accumulators, const double* inverse_star_weight, long n,
+                      double* j, double* g, float* g_single);
+
 /// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) to n
 /// column-major 3-vectors.
 void AddSingleEndForces(const float* end_forces, long n, double* vectors);
