@@ -32,6 +32,16 @@ constexpr double kRecoverySlop = 0.01;
 // friction: frictionless, a box teleported into the block there burst with kinetic energy.
 constexpr double kFrictionlessOverlap = 0.1;
 
+// Coulomb friction's velocity change for a node sliding at `sliding` (tangential, relative to the
+// collider) when it may change by at most `limit` (>= 0): against the sliding, never reversing
+// it. A sticking node (|sliding| <= limit) needs no square root or division, which were half of
+// a resting contact's response: its change is -sliding, exactly what -(|s| / |s|) s gave.
+Eigen::Vector3d CoulombFriction(const Eigen::Vector3d& sliding, double limit) {
+  const double slide_sq = sliding.squaredNorm();
+  if (slide_sq <= limit * limit) return -sliding;
+  return -(limit / std::sqrt(slide_sq)) * sliding;
+}
+
 }  // namespace
 
 // A collider's frame for detection, computed once per body and substep.
@@ -175,13 +185,9 @@ void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& 
     auto v = body->state.velocities.col(contact.node);
     const Eigen::Vector3d relative = v - contact.velocity;
     const Eigen::Vector3d sliding = relative - relative.dot(contact.normal) * contact.normal;
-    const double slide_speed = sliding.norm();
-    Eigen::Vector3d friction = Eigen::Vector3d::Zero();
-    if (slide_speed > 0.0) {
-      const double limit = contact.friction * (normal / m + rebound);
-      friction = -std::min(limit, slide_speed) / slide_speed * sliding;
-      v += friction;
-    }
+    const Eigen::Vector3d friction =
+        CoulombFriction(sliding, contact.friction * (normal / m + rebound));
+    v += friction;
     RecordColliderImpulse(body, contact.node, contact.collider, contact.point, contact.normal,
                           normal + m * rebound, -m * friction);
     ++microcollisions_;
@@ -283,11 +289,10 @@ void World::RespondToColliderContact(Body* body, NodeIndex node, const NodeConta
   // velocity, never reversing it.
   const Eigen::Vector3d relative = *v - contact.velocity;
   const Eigen::Vector3d sliding = relative - relative.dot(contact.normal) * contact.normal;
-  const double slide_speed = sliding.norm();
   Eigen::Vector3d friction = Eigen::Vector3d::Zero();
-  if (slide_speed > 0.0 && !frictionless) {
-    const double limit = Friction(*body, contact.collider) * (1.0 + e) * contact.stopped;
-    friction = -std::min(limit, slide_speed) / slide_speed * sliding;
+  if (!frictionless) {
+    friction =
+        CoulombFriction(sliding, Friction(*body, contact.collider) * (1.0 + e) * contact.stopped);
     *v += friction;
   }
   if (e > 0.0) body->pending.push_back({node, e * contact.stopped * contact.normal});
