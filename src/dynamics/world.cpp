@@ -45,8 +45,10 @@ World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> bod
 
 void World::ImpulseSum::Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
                             const Eigen::Vector3d& on_collider) {
-  const double magnitude = on_collider.norm();
-  if (magnitude == 0.0) return;
+  // Tested on the square: the branch then need not wait for the square root.
+  const double magnitude_sq = on_collider.squaredNorm();
+  if (magnitude_sq == 0.0) return;
+  const double magnitude = std::sqrt(magnitude_sq);
   impulse += on_collider;
   moment += (point - origin).cross(on_collider);
   weighted_point += magnitude * point;

@@ -292,9 +292,8 @@ void World::ApplyPendingRestitution(Body* body) {
 }
 
 void World::ComputeForces(Body* body) {
-  body->forces.setZero();
-  body->evaluator.AccumulateForces(body->state.positions, body->state.velocities,
-                                   body->options.damping_beta, &body->forces);
+  body->evaluator.SetForces(body->state.positions, body->state.velocities,
+                            body->options.damping_beta, &body->forces);
   for (const Push& push : body->pushes) {
     for (std::size_t k = 0; k < push.nodes.size(); ++k) {
       body->forces.col(push.nodes[k]) += push.forces[k];

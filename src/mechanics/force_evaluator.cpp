@@ -324,6 +324,15 @@ void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions,
   }
 }
 
+void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
+                               const Eigen::Matrix3Xd& velocities, double damping_beta,
+                               Eigen::Matrix3Xd* forces) {
+  forces->resize(3, model_->num_nodes());
+  overwrite_forces_ = true;
+  AccumulateForces(positions, velocities, damping_beta, forces);
+  overwrite_forces_ = false;
+}
+
 template <bool Damped>
 void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                 Eigen::Matrix3Xd* forces) {
@@ -336,6 +345,7 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
     return;
   }
   totals_scheduled_ = false;
+  if (overwrite_forces_) forces->setZero();  // the per-spring loops add
   const bool linear = model_->spring_law() == SpringLaw::kLinear;
   if (model_->dispersion_fraction() == 0.0) {
     linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
@@ -365,6 +375,7 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
     AccumulateSingle(positions, damping, forces);
     return;
   }
+  if (overwrite_forces_) forces->setZero();  // the double run loops add
   const Eigen::Index n = model_->num_nodes();
   node_arrays_.resize(9 * n);
   double* x = node_arrays_.data();
@@ -454,7 +465,11 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
                         end_forces(target));
     });
   }
-  AddSingleEndForces(f, n, forces->data());
+  if (overwrite_forces_) {
+    StoreSingleEndForces(f, n, forces->data());
+  } else {
+    AddSingleEndForces(f, n, forces->data());
+  }
   totals_recorded_ = false;
   totals_scheduled_ = false;
 }

@@ -248,6 +248,18 @@ void AddSingleEndForces(const float* end_forces, long n, double* vectors) {
 }
 
 MSM_SIM_SIMD_CLONES
+void StoreSingleEndForces(const float* end_forces, long n, double* vectors) {
+  const float* __restrict a = end_forces;
+  const float* __restrict b = end_forces + 3 * n;
+  double* __restrict to = vectors;
+  for (long i = 0; i < n; ++i) {
+    to[3 * i] = static_cast<double>(a[i]) + static_cast<double>(b[i]);
+    to[3 * i + 1] = static_cast<double>(a[n + i]) + static_cast<double>(b[n + i]);
+    to[3 * i + 2] = static_cast<double>(a[2 * n + i]) + static_cast<double>(b[2 * n + i]);
+  }
+}
+
+MSM_SIM_SIMD_CLONES
 void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                      float beta, const SingleEndForces& forces) {

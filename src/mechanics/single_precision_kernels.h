@@ -85,6 +85,8 @@ void SingleDispersion(const float* accumulators, const double* inverse_star_weig
 /// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) to n
 /// column-major 3-vectors.
 void AddSingleEndForces(const float* end_forces, long n, double* vectors);
+/// The same, storing the sums instead of adding them.
+void StoreSingleEndForces(const float* end_forces, long n, double* vectors);
 
 /// Plain MSM: each slot's tension (spring plus damper) applied to both ends.
 void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,

@@ -181,6 +181,29 @@ TEST(SinglePrecisionEvaluator, OnePassDispersionLagsOnTheSingleEvaluation) {
   }
 }
 
+TEST(SinglePrecisionEvaluator, SetForcesEqualsAddingOntoZero) {
+  // SetForces overwrites whatever *forces held, on every path: the single and double run loops,
+  // and the per-spring loops of a lagged one-pass evaluation.
+  const Model model = Block(0.45);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 20);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 21);
+  for (const auto precision : {SpringPrecision::kSingle, SpringPrecision::kDouble}) {
+    for (const auto passes : {DispersionPasses::kTwoPass, DispersionPasses::kOnePass}) {
+      ForceEvaluator set(model, passes), added(model, passes);
+      set.set_precision(precision);
+      added.set_precision(precision);
+      for (int evaluation = 0; evaluation < 2; ++evaluation) {
+        Eigen::Matrix3Xd overwritten = Eigen::Matrix3Xd::Constant(3, 4, 7.0);  // wrong size too
+        set.SetForces(x, v, 1e-3, &overwritten);
+        Eigen::Matrix3Xd sum = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+        added.AccumulateForces(x, v, 1e-3, &sum);
+        EXPECT_EQ(overwritten, sum)
+            << static_cast<int>(precision) << " " << static_cast<int>(passes) << " " << evaluation;
+      }
+    }
+  }
+}
+
 TEST(SinglePrecisionEvaluator, TwoThreadsAgreeAndRepeat) {
   // Above the evaluator's threshold for threads (50,000 springs).
   const Model model = Block(0.45, 0.0035);

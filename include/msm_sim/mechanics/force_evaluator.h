@@ -90,6 +90,11 @@ class ForceEvaluator {
   void AccumulateForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
                         double damping_beta, Eigen::Matrix3Xd* forces);
 
+  /// The same, but sets *forces (resized to 3 x N) to the internal forces instead of adding them:
+  /// the single-precision loops then write their sums directly (no zeroing, no read).
+  void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
+                 double damping_beta, Eigen::Matrix3Xd* forces);
+
   /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
   /// Phi = sum_x J_x^2 / (2 q W_x). Phi is exact for linear springs; with the carrier law the
   /// dispersion follows the small-strain stiffness, so Phi is its potential to second order in
@@ -197,7 +202,8 @@ class ForceEvaluator {
   std::vector<Eigen::VectorXd> scratch_;         // per extra thread: its scatter buffer
   std::vector<Eigen::VectorXf> single_scratch_;  // the same for the single-precision loops
   SpringPrecision precision_ = SpringPrecision::kDouble;
-  bool totals_recorded_ = true;  // false after a single-precision evaluation
+  bool totals_recorded_ = true;    // false after a single-precision evaluation
+  bool overwrite_forces_ = false;  // during SetForces
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
   // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each; the
