@@ -235,28 +235,34 @@ void SingleDispersion(const float* accumulators, const double* inverse_star_weig
   }
 }
 
-MSM_SIM_SIMD_CLONES
-void AddSingleEndForces(const float* end_forces, long n, double* vectors) {
+namespace {
+
+// Each node's a-end plus b-end force (float blocks of n, x y z for the a ends, then the b ends),
+// added to or stored in n column-major 3-vectors.
+template <bool kAdd>
+inline __attribute__((always_inline)) void SumEndForces(const float* end_forces, long n,
+                                                        double* vectors) {
   const float* __restrict a = end_forces;
   const float* __restrict b = end_forces + 3 * n;
   double* __restrict to = vectors;
   for (long i = 0; i < n; ++i) {
-    to[3 * i] += static_cast<double>(a[i]) + static_cast<double>(b[i]);
-    to[3 * i + 1] += static_cast<double>(a[n + i]) + static_cast<double>(b[n + i]);
-    to[3 * i + 2] += static_cast<double>(a[2 * n + i]) + static_cast<double>(b[2 * n + i]);
+    for (long d = 0; d < 3; ++d) {
+      const double sum = static_cast<double>(a[d * n + i]) + static_cast<double>(b[d * n + i]);
+      to[3 * i + d] = kAdd ? to[3 * i + d] + sum : sum;
+    }
   }
+}
+
+}  // namespace
+
+MSM_SIM_SIMD_CLONES
+void AddSingleEndForces(const float* end_forces, long n, double* vectors) {
+  SumEndForces<true>(end_forces, n, vectors);
 }
 
 MSM_SIM_SIMD_CLONES
 void StoreSingleEndForces(const float* end_forces, long n, double* vectors) {
-  const float* __restrict a = end_forces;
-  const float* __restrict b = end_forces + 3 * n;
-  double* __restrict to = vectors;
-  for (long i = 0; i < n; ++i) {
-    to[3 * i] = static_cast<double>(a[i]) + static_cast<double>(b[i]);
-    to[3 * i + 1] = static_cast<double>(a[n + i]) + static_cast<double>(b[n + i]);
-    to[3 * i + 2] = static_cast<double>(a[2 * n + i]) + static_cast<double>(b[2 * n + i]);
-  }
+  SumEndForces<false>(end_forces, n, vectors);
 }
 
 MSM_SIM_SIMD_CLONES
