@@ -339,13 +339,15 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
   totals_recorded_ = true;
   const bool dispersion = model_->dispersion_fraction() != 0.0;
   const bool lagged = passes_ == DispersionPasses::kOnePass && has_previous_dispersion_;
-  if (scheduled_ && !(dispersion && lagged)) {
+  const bool runs = scheduled_ && !(dispersion && lagged);
+  // SetForces: every path but the single-precision loops adds to *forces.
+  if (overwrite_forces_ && !(runs && single_)) forces->setZero();
+  if (runs) {
     AccumulateRuns(positions, damping, forces);
     has_previous_dispersion_ = dispersion;
     return;
   }
   totals_scheduled_ = false;
-  if (overwrite_forces_) forces->setZero();  // the per-spring loops add
   const bool linear = model_->spring_law() == SpringLaw::kLinear;
   if (model_->dispersion_fraction() == 0.0) {
     linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
@@ -375,7 +377,6 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
     AccumulateSingle(positions, damping, forces);
     return;
   }
-  if (overwrite_forces_) forces->setZero();  // the double run loops add
   const Eigen::Index n = model_->num_nodes();
   node_arrays_.resize(9 * n);
   double* x = node_arrays_.data();

@@ -59,7 +59,7 @@ struct WorldOptions {
   int threads = 1;
   /// The arithmetic of each body's spring loops in the dynamics (ForceEvaluator::set_precision).
   /// kSingle (the default) runs cubic lattices' springs in single precision, which made the
-  /// realtime block's steps 1.6-1.75x faster; a spring's strain is then resolved to about
+  /// realtime block's steps 1.5-1.8x faster; a spring's strain is then resolved to about
   /// 1e-7 times the body's extent over the spring's length. Energies, stable steps, the
   /// implicit integrator's stiffness and static solves stay double (docs/physics.md §9).
   SpringPrecision spring_precision = SpringPrecision::kSingle;

@@ -36,8 +36,8 @@ enum class SpringPrecision {
   /// Where the run kernels apply (linear springs in rows: cubic lattices), the spring loops run
   /// in single precision: positions relative to node 0 and velocities rounded to float, tensions
   /// and forces summed in float, then added to the double forces. Twice the springs per SIMD
-  /// register; a spring's strain is resolved to about 1e-7 of its length (positions are rounded
-  /// to 6e-8 of the body's size). Energy, Linearize and the stiffness stay in double, and
+  /// register; positions are rounded to 6e-8 of the body's extent D, so a spring's strain to about
+  /// 6e-8 D / L. Energy, Linearize and the stiffness stay in double, and
   /// total_tensions is not recorded. Other models evaluate in double.
   kSingle,
 };
