@@ -89,6 +89,8 @@ Collider Ground(double height = 0.0, double friction = 0.5) {
 // What a bouncing ball's total energy E(t) did (fractions of its start E0).
 struct BounceRecord {
   int flights = 0;
+  /// The lowest node's highest point in each flight, as a fraction of its height at the drop.
+  std::vector<double> apexes;
   double worst_deviation = 0.0;  ///< max |E / E0 - 1|
   double largest_gain = 0.0;     ///< max (E_k - E_{k-1}) / E0 over single steps
   double loss_per_second = 0.0;  ///< -slope of the least-squares line through E / E0 (1/s)
@@ -107,16 +109,20 @@ BounceRecord BounceBallForTenSeconds(const WorldOptions& world_options, double s
   state.positions.row(2).array() += 0.3;
   world.SetState(body, state);
   const double initial = world.ComputeEnergies(body).total();
+  const double drop_height = state.positions.row(2).minCoeff();
   BounceRecord record;
-  bool airborne = true;
+  bool airborne = false;  // the drop itself counts as the first flight
   double previous = 1.0, n = 0.0, sum_t = 0.0, sum_e = 0.0, sum_tt = 0.0, sum_te = 0.0;
   const int steps = static_cast<int>(std::lround(10.0 / step));
   for (int k = 1; k <= steps; ++k) {
     const StepReport report = world.Step(step);
     EXPECT_TRUE(report.accepted) << report.reason;
     if (!report.accepted) break;
-    const bool now_airborne = world.state(body).positions.row(2).minCoeff() > 0.03;
+    const double lowest = world.state(body).positions.row(2).minCoeff();
+    const bool now_airborne = lowest > 0.03;
     record.flights += now_airborne && !airborne;
+    if (now_airborne && !airborne) record.apexes.push_back(0.0);
+    if (now_airborne) record.apexes.back() = std::max(record.apexes.back(), lowest / drop_height);
     airborne = now_airborne;
     const double e = world.ComputeEnergies(body).total() / initial, t = k * step;
     record.worst_deviation = std::max(record.worst_deviation, std::abs(e - 1.0));
@@ -126,10 +132,14 @@ BounceRecord BounceBallForTenSeconds(const WorldOptions& world_options, double s
   }
   record.loss_per_second = -(n * sum_te - sum_t * sum_e) / (n * sum_tt - sum_t * sum_t);
   std::printf(
-      "  %s, %.1f ms steps: %d flights in 10 s, largest energy deviation %.3f %%, loss %.4f %% "
-      "per second, largest gain in one step %.4f %%\n",
-      IntegratorName(world_options.integrator), 1e3 * step, record.flights,
-      100 * record.worst_deviation, 100 * record.loss_per_second, 100 * record.largest_gain);
+      "  %s, %.1f ms steps: %d flights in 10 s (rebounds to %.3f, %.3f, %.3f of the drop "
+      "height), largest energy deviation %.3f %%, loss %.4f %% per second, largest gain in one "
+      "step %.4f %%\n",
+      IntegratorName(world_options.integrator), 1e3 * step, record.flights - 1,
+      record.apexes.size() > 1 ? record.apexes[1] : 0.0,
+      record.apexes.size() > 2 ? record.apexes[2] : 0.0,
+      record.apexes.size() > 3 ? record.apexes[3] : 0.0, 100 * record.worst_deviation,
+      100 * record.loss_per_second, 100 * record.largest_gain);
   return record;
 }
 
@@ -138,10 +148,22 @@ BounceRecord BounceBallForTenSeconds(const WorldOptions& world_options, double s
 // 0.2 ms the total stays within 1 % at every instant. Single steps in contact gain up to 0.5 % of
 // it and give it back in the next ones (with e = 1 only; README "Dynamics"), so the per-step gain
 // is reported, not bounded.
+//
+// That the ball keeps bouncing is checked on its first three rebounds: they reach 0.73, 0.69
+// and 0.58 of the drop height in single and double precision alike (each impact leaves more
+// of the fall in vibration). Later flights are chaotic: in some impacts of the squashed ball a
+// node comes within 1-5 mm of the ground, far inside the 15 mm collision radius, and whether
+// that happens turns on rounding, so the number of flights in 10 s (10 in single precision, 33 in
+// double; it was 8 once FMA contraction changed the drift's rounding) is printed, not tested.
 TEST(Energy, ElasticBallBouncingForTenSecondsKeepsItsEnergy) {
-  const BounceRecord record = BounceBallForTenSeconds(WorldOptions{}, 2e-4);
-  EXPECT_GE(record.flights, 10);
-  EXPECT_LT(record.worst_deviation, 0.01);
+  for (const SpringPrecision precision : {SpringPrecision::kSingle, SpringPrecision::kDouble}) {
+    WorldOptions options;
+    options.spring_precision = precision;
+    const BounceRecord record = BounceBallForTenSeconds(options, 2e-4);
+    ASSERT_GE(record.apexes.size(), 4u);  // the drop and three rebounds
+    for (int rebound = 1; rebound <= 3; ++rebound) EXPECT_GT(record.apexes[rebound], 0.5);
+    EXPECT_LT(record.worst_deviation, 0.01);
+  }
 }
 
 // A single node (no springs) with a collision sphere of 25 mm.
