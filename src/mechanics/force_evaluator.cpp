@@ -9,7 +9,6 @@
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-#include <type_traits>
 #include <utility>
 
 #include "mechanics/force_kernels.h"
@@ -151,8 +150,8 @@ void ForceEvaluator::ForSprings(double* target, Eigen::Index target_size, Body&&
   ForShares(model_->num_springs(), target, target_size, std::forward<Body>(body));
 }
 
-template <typename Scalar, typename Body>
-void ForceEvaluator::ForShares(int count, Scalar* target, Eigen::Index target_size, Body&& body) {
+template <typename Body>
+void ForceEvaluator::ForShares(int count, double* target, Eigen::Index target_size, Body&& body) {
   // The pool's thread starts only when a model may use it: a one-thread world starts none.
   const bool parallel = model_->num_springs() >= kParallelSprings && max_threads_ > 1;
   WorkerPool* pool = parallel ? &WorkerPool::Shared() : nullptr;
@@ -165,13 +164,7 @@ void ForceEvaluator::ForShares(int count, Scalar* target, Eigen::Index target_si
   // the shares touch mostly different nodes) and scatters into its own buffer; the buffers
   // are added in share order, so a given thread count always gives the same sums, whichever
   // thread runs a share.
-  std::vector<Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>* buffers = nullptr;
-  if constexpr (std::is_same_v<Scalar, float>) {
-    buffers = &single_scratch_;
-  } else {
-    buffers = &scratch_;
-  }
-  auto& scratch = *buffers;
+  auto& scratch = scratch_;
   scratch.resize(threads - 1);
   for (auto& buffer : scratch) buffer.setZero(target_size);
   const std::function<void(int)> share = [&](int t) {
@@ -185,7 +178,7 @@ void ForceEvaluator::ForShares(int count, Scalar* target, Eigen::Index target_si
   } else {  // another evaluator (another World's thread) has the pool: the same shares, here
     for (int t = 0; t < threads; ++t) share(t);
   }
-  Eigen::Map<Eigen::Matrix<Scalar, Eigen::Dynamic, 1>> sum(target, target_size);
+  Eigen::Map<Eigen::VectorXd> sum(target, target_size);
   for (const auto& buffer : scratch) sum += buffer;
 }
 
@@ -415,9 +408,46 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
   totals_scheduled_ = true;
 }
 
+int ForceEvaluator::SingleShares() const {
+  return model_->num_nodes() >= kParallelSingleNodes ? max_threads_ : 1;
+}
+
+void ForceEvaluator::RunShares(int shares, const std::function<void(int)>& task) {
+  if (shares <= 1) {
+    task(0);
+    return;
+  }
+  WorkerPool& pool = WorkerPool::Shared();
+  std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
+  if (lock.owns_lock()) {
+    pool.Run(shares, task);
+  } else {  // another evaluator (another World's thread) has the pool: the same shares, here
+    for (int t = 0; t < shares; ++t) task(t);
+  }
+}
+
+namespace {
+
+// Adds the overflows of the shares before `share` (each `length` floats from its end node, at
+// `stride` apart in `overflows`) into `shared` (per node) over the share's own nodes: after
+// this, shared holds every b end's sum for them.
+void GatherOverflows(const float* overflows, long stride, long length,
+                     const std::vector<SingleShare>& shares, int share, float* shared) {
+  const SingleShare& own = shares[share];
+  for (int earlier = 0; earlier < share; ++earlier) {
+    const long from = shares[earlier].end;
+    const long lo = std::max<long>(own.begin, from);
+    const long hi = std::min<long>(own.end, from + length);
+    const float* overflow = overflows + stride * earlier;
+    for (long i = lo; i < hi; ++i) shared[i] += overflow[i - from];
+  }
+}
+
+}  // namespace
+
 void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                       Eigen::Matrix3Xd* forces) {
-  const Eigen::Index n = model_->num_nodes();
+  const int n = model_->num_nodes();
   single_nodes_.resize(12 * n);
   float* x = single_nodes_.data();
   float* v = x + 3 * n;
@@ -435,42 +465,81 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     velocities = &v_arrays;
   }
   const auto beta = static_cast<float>(damping.beta);
-  std::fill(f, f + 6 * n, 0.0f);
-  const int num_runs = static_cast<int>(single_->runs.size());
-  const auto end_forces = [n](float* target) {
-    return SingleEndForces{{target, target + n, target + 2 * n},
-                           {target + 3 * n, target + 4 * n, target + 5 * n}};
+
+  // Node shares, each with an overflow of max_offset floats for each of the b ends' x, y, z
+  // forces and J_b.
+  const int count = SingleShares();
+  std::vector<SingleShare> shares(count);
+  for (int t = 0; t < count; ++t) {
+    shares[t] = {static_cast<int>(static_cast<long long>(n) * t / count),
+                 static_cast<int>(static_cast<long long>(n) * (t + 1) / count)};
+  }
+  const long length = single_->max_offset;
+  single_overflows_.resize(4 * length * count);
+  const auto overflow = [&](int t, int block) {
+    return single_overflows_.data() + 4 * length * t + length * block;
   };
+  const SingleEndForces end_forces{{f, f + n, f + 2 * n}, {f + 3 * n, f + 4 * n, f + 5 * n}};
+  // Zeroes share t's nodes in `blocks` consecutive blocks of n from `nodes`, and its overflows
+  // `first` .. `last`.
+  const auto clear = [&](int t, float* nodes, int blocks, int first, int last) {
+    const SingleShare& share = shares[t];
+    for (int b = 0; b < blocks; ++b) {
+      std::fill(nodes + b * static_cast<long>(n) + share.begin,
+                nodes + b * static_cast<long>(n) + share.end, 0.0f);
+    }
+    std::fill(overflow(t, first), overflow(t, last) + length, 0.0f);
+  };
+  const auto apply_forces = [&](int t) {
+    for (int d = 0; d < 3; ++d) {
+      GatherOverflows(overflow(0, d), 4 * length, length, shares, t, f + (3 + d) * n);
+    }
+    const SingleShare& share = shares[t];
+    if (overwrite_forces_) {
+      StoreSingleEndForces(f, n, share.begin, share.end, forces->data());
+    } else {
+      AddSingleEndForces(f, n, share.begin, share.end, forces->data());
+    }
+  };
+  const auto overflow_forces = [&](int t) {
+    return MutableSingleNodeArrays{overflow(t, 0), overflow(t, 1), overflow(t, 2)};
+  };
+
   if (model_->dispersion_fraction() == 0.0) {
-    ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
-      SinglePlainRuns(*single_, begin, end, x_arrays, velocities, beta, end_forces(target));
+    RunShares(count, [&](int t) {
+      clear(t, f, 6, 0, 2);
+      SinglePlainRuns(*single_, shares[t], x_arrays, velocities, beta, end_forces,
+                      overflow_forces(t));
     });
   } else {
-    const int slots = single_->num_slots();
-    single_tensions_.resize(slots);
-    single_inverse_lengths_.resize(slots);
-    single_accumulators_.setZero(2 * n);
-    ForShares(num_runs, single_accumulators_.data(), 2 * n, [&](int begin, int end, float* target) {
-      SingleInflowRuns(*single_, begin, end, x_arrays, velocities, beta, single_tensions_.data(),
-                       single_inverse_lengths_.data(), target, target + n);
-    });
-    // J and g in double as well: a one-pass evaluation after this one lags on them.
+    single_tensions_.resize(single_->num_slots());
+    single_inverse_lengths_.resize(single_->num_slots());
+    single_accumulators_.resize(2 * n);
     accumulator_.resize(n);
     dispersion_per_weight_.resize(n);
     single_dispersion_.resize(n);
-    SingleDispersion(single_accumulators_.data(), inverse_star_weight_.data(), n,
-                     accumulator_.data(), dispersion_per_weight_.data(), single_dispersion_.data());
-    ForShares(num_runs, f, 6 * n, [&](int begin, int end, float* target) {
-      SingleOutflowRuns(*single_, begin, end, x_arrays, single_dispersion_.data(),
-                        single_tensions_.data(), single_inverse_lengths_.data(),
-                        end_forces(target));
+    float* j_a = single_accumulators_.data();
+    float* j_b = j_a + n;
+    RunShares(count, [&](int t) {
+      clear(t, j_a, 2, 3, 3);
+      SingleInflowRuns(*single_, shares[t], x_arrays, velocities, beta, single_tensions_.data(),
+                       single_inverse_lengths_.data(), j_a, j_b, overflow(t, 3));
+    });
+    // J and g in double as well: a one-pass evaluation after this one lags on them.
+    RunShares(count, [&](int t) {
+      GatherOverflows(overflow(0, 3), 4 * length, length, shares, t, j_b);
+      SingleDispersion(j_a, inverse_star_weight_.data(), n, shares[t].begin, shares[t].end,
+                       accumulator_.data(), dispersion_per_weight_.data(),
+                       single_dispersion_.data());
+    });
+    RunShares(count, [&](int t) {
+      clear(t, f, 6, 0, 2);
+      SingleOutflowRuns(*single_, shares[t], x_arrays, single_dispersion_.data(),
+                        single_tensions_.data(), single_inverse_lengths_.data(), end_forces,
+                        overflow_forces(t));
     });
   }
-  if (overwrite_forces_) {
-    StoreSingleEndForces(f, n, forces->data());
-  } else {
-    AddSingleEndForces(f, n, forces->data());
-  }
+  RunShares(count, apply_forces);
   totals_recorded_ = false;
   totals_scheduled_ = false;
 }

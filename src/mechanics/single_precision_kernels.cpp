@@ -50,6 +50,7 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
     } else {
       out.runs.push_back({out.num_slots(), a, offset(s), 1});
     }
+    out.max_offset = std::max(out.max_offset, offset(s));
     const bool swapped = node_a[s] > node_b[s];
     add_slot(static_cast<float>(model.spring_stiffness()[s]),
              static_cast<float>(model.spring_rest_length()[s]),
@@ -126,21 +127,42 @@ inline __attribute__((always_inline)) void PlainRun(
   }
 }
 
+// Calls part(a, count, beyond) for the slots of `run` in `share`: first those whose b ends lie
+// below share.end (beyond false), then those whose b ends lie at share.end or past it (true).
+template <typename Part>
+inline __attribute__((always_inline)) void ForRunInShare(const SingleRun& run,
+                                                         const SingleShare& share, Part&& part) {
+  const int lo = std::max(run.a0, share.begin);
+  const int hi = std::min(run.a0 + run.count, share.end);
+  if (lo >= hi) return;
+  const int split = std::clamp(share.end - run.offset, lo, hi);
+  if (split > lo) part(lo, split - lo, false);
+  if (hi > split) part(split, hi - split, true);
+}
+
+// Where a part's b ends go: the shared arrays from node b, or the share's overflow from b - end.
+inline float* BEnd(float* shared, float* overflow, int b, int end, bool beyond) {
+  return beyond ? overflow + (b - end) : shared + b;
+}
+
 template <bool Damped>
 inline __attribute__((always_inline)) void PlainImpl(const SinglePrecisionSprings& springs,
-                                                     int run_begin, int run_end,
+                                                     const SingleShare& share,
                                                      const SingleNodeArrays& positions,
                                                      const SingleNodeArrays* velocities, float beta,
-                                                     const SingleEndForces& forces) {
+                                                     const SingleEndForces& forces,
+                                                     const MutableSingleNodeArrays& overflow) {
   const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
-  for (int r = run_begin; r < run_end; ++r) {
-    const SingleRun& run = springs.runs[r];
-    const int a0 = run.a0, b0 = run.a0 + run.offset, f = run.first;
-    PlainRun<Damped>(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
-                     From(v.x, a0), From(v.y, a0), From(v.z, a0), beta,
-                     springs.stiffness.data() + f, springs.rest.data() + f, forces.a.x + a0,
-                     forces.a.y + a0, forces.a.z + a0, forces.b.x + b0, forces.b.y + b0,
-                     forces.b.z + b0);
+  for (const SingleRun& run : springs.runs) {
+    ForRunInShare(run, share, [&](int a, int count, bool beyond) {
+      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.end;
+      PlainRun<Damped>(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
+                       From(v.x, a), From(v.y, a), From(v.z, a), beta, springs.stiffness.data() + f,
+                       springs.rest.data() + f, forces.a.x + a, forces.a.y + a, forces.a.z + a,
+                       BEnd(forces.b.x, overflow.x, b, end, beyond),
+                       BEnd(forces.b.y, overflow.y, b, end, beyond),
+                       BEnd(forces.b.z, overflow.z, b, end, beyond));
+    });
   }
 }
 
@@ -173,18 +195,19 @@ inline __attribute__((always_inline)) void InflowRun(
 
 template <bool Damped>
 inline __attribute__((always_inline)) void InflowImpl(
-    const SinglePrecisionSprings& springs, int run_begin, int run_end,
+    const SinglePrecisionSprings& springs, const SingleShare& share,
     const SingleNodeArrays& positions, const SingleNodeArrays* velocities, float beta,
-    float* tensions, float* inverse_lengths, float* j_a, float* j_b) {
+    float* tensions, float* inverse_lengths, float* j_a, float* j_b, float* j_b_overflow) {
   const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
-  for (int r = run_begin; r < run_end; ++r) {
-    const SingleRun& run = springs.runs[r];
-    const int a0 = run.a0, f = run.first;
-    InflowRun<Damped>(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
-                      From(v.x, a0), From(v.y, a0), From(v.z, a0), beta,
-                      springs.stiffness.data() + f, springs.rest.data() + f,
-                      springs.inflow_a.data() + f, springs.inflow_b.data() + f, tensions + f,
-                      inverse_lengths + f, j_a + a0, j_b + a0 + run.offset);
+  for (const SingleRun& run : springs.runs) {
+    ForRunInShare(run, share, [&](int a, int count, bool beyond) {
+      const int b = a + run.offset, f = run.first + (a - run.a0);
+      InflowRun<Damped>(
+          count, run.offset, positions.x + a, positions.y + a, positions.z + a, From(v.x, a),
+          From(v.y, a), From(v.z, a), beta, springs.stiffness.data() + f, springs.rest.data() + f,
+          springs.inflow_a.data() + f, springs.inflow_b.data() + f, tensions + f,
+          inverse_lengths + f, j_a + a, BEnd(j_b, j_b_overflow, b, share.end, beyond));
+    });
   }
 }
 
@@ -221,14 +244,14 @@ void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], f
 
 MSM_SIM_SIMD_CLONES
 void SingleDispersion(const float* accumulators, const double* inverse_star_weight, long n,
-                      double* j, double* g, float* g_single) {
+                      long begin, long end, double* j, double* g, float* g_single) {
   const float* __restrict ja = accumulators;
   const float* __restrict jb = accumulators + n;
   const double* __restrict w = inverse_star_weight;
   double* __restrict j_out = j;
   double* __restrict g_out = g;
   float* __restrict gs = g_single;
-  for (long i = 0; i < n; ++i) {
+  for (long i = begin; i < end; ++i) {
     j_out[i] = static_cast<double>(ja[i]) + static_cast<double>(jb[i]);
     g_out[i] = j_out[i] * w[i];
     gs[i] = static_cast<float>(g_out[i]);
@@ -238,14 +261,14 @@ void SingleDispersion(const float* accumulators, const double* inverse_star_weig
 namespace {
 
 // Each node's a-end plus b-end force (float blocks of n, x y z for the a ends, then the b ends),
-// added to or stored in n column-major 3-vectors.
+// added to or stored in n column-major 3-vectors, for nodes [begin, end).
 template <bool kAdd>
-inline __attribute__((always_inline)) void SumEndForces(const float* end_forces, long n,
-                                                        double* vectors) {
+inline __attribute__((always_inline)) void SumEndForces(const float* end_forces, long n, long begin,
+                                                        long end, double* vectors) {
   const float* __restrict a = end_forces;
   const float* __restrict b = end_forces + 3 * n;
   double* __restrict to = vectors;
-  for (long i = 0; i < n; ++i) {
+  for (long i = begin; i < end; ++i) {
     for (long d = 0; d < 3; ++d) {
       const double sum = static_cast<double>(a[d * n + i]) + static_cast<double>(b[d * n + i]);
       to[3 * i + d] = kAdd ? to[3 * i + d] + sum : sum;
@@ -256,51 +279,56 @@ inline __attribute__((always_inline)) void SumEndForces(const float* end_forces,
 }  // namespace
 
 MSM_SIM_SIMD_CLONES
-void AddSingleEndForces(const float* end_forces, long n, double* vectors) {
-  SumEndForces<true>(end_forces, n, vectors);
+void AddSingleEndForces(const float* end_forces, long n, long begin, long end, double* vectors) {
+  SumEndForces<true>(end_forces, n, begin, end, vectors);
 }
 
 MSM_SIM_SIMD_CLONES
-void StoreSingleEndForces(const float* end_forces, long n, double* vectors) {
-  SumEndForces<false>(end_forces, n, vectors);
+void StoreSingleEndForces(const float* end_forces, long n, long begin, long end, double* vectors) {
+  SumEndForces<false>(end_forces, n, begin, end, vectors);
 }
 
 MSM_SIM_SIMD_CLONES
-void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
-                     float beta, const SingleEndForces& forces) {
+                     float beta, const SingleEndForces& forces,
+                     const MutableSingleNodeArrays& overflow) {
   if (velocities != nullptr) {
-    PlainImpl<true>(springs, run_begin, run_end, positions, velocities, beta, forces);
+    PlainImpl<true>(springs, share, positions, velocities, beta, forces, overflow);
   } else {
-    PlainImpl<false>(springs, run_begin, run_end, positions, velocities, beta, forces);
+    PlainImpl<false>(springs, share, positions, velocities, beta, forces, overflow);
   }
 }
 
 MSM_SIM_SIMD_CLONES
-void SingleInflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                       const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
-                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b) {
+                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b,
+                      float* j_b_overflow) {
   if (velocities != nullptr) {
-    InflowImpl<true>(springs, run_begin, run_end, positions, velocities, beta, tensions,
-                     inverse_lengths, j_a, j_b);
+    InflowImpl<true>(springs, share, positions, velocities, beta, tensions, inverse_lengths, j_a,
+                     j_b, j_b_overflow);
   } else {
-    InflowImpl<false>(springs, run_begin, run_end, positions, velocities, beta, tensions,
-                      inverse_lengths, j_a, j_b);
+    InflowImpl<false>(springs, share, positions, velocities, beta, tensions, inverse_lengths, j_a,
+                      j_b, j_b_overflow);
   }
 }
 
 MSM_SIM_SIMD_CLONES
-void SingleOutflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                        const SingleNodeArrays& positions, const float* dispersion_per_weight,
                        const float* tensions, const float* inverse_lengths,
-                       const SingleEndForces& forces) {
-  for (int r = run_begin; r < run_end; ++r) {
-    const SingleRun& run = springs.runs[r];
-    const int a0 = run.a0, b0 = run.a0 + run.offset, f = run.first;
-    OutflowRun(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
-               dispersion_per_weight + a0, tensions + f, inverse_lengths + f,
-               springs.outflow_a.data() + f, springs.outflow_b.data() + f, forces.a.x + a0,
-               forces.a.y + a0, forces.a.z + a0, forces.b.x + b0, forces.b.y + b0, forces.b.z + b0);
+                       const SingleEndForces& forces, const MutableSingleNodeArrays& overflow) {
+  for (const SingleRun& run : springs.runs) {
+    ForRunInShare(run, share, [&](int a, int count, bool beyond) {
+      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.end;
+      OutflowRun(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
+                 dispersion_per_weight + a, tensions + f, inverse_lengths + f,
+                 springs.outflow_a.data() + f, springs.outflow_b.data() + f, forces.a.x + a,
+                 forces.a.y + a, forces.a.z + a, BEnd(forces.b.x, overflow.x, b, end, beyond),
+                 BEnd(forces.b.y, overflow.y, b, end, beyond),
+                 BEnd(forces.b.z, overflow.z, b, end, beyond));
+    });
   }
 }
 

@@ -28,12 +28,14 @@ struct SingleRun {
 struct SinglePrecisionSprings {
   /// Longest gap (missing springs in a row of one offset) that phantoms bridge.
   static constexpr int kMaxGap = 8;
-  /// Longest run: bounds the imbalance of the threads' shares, which are cut between runs.
+  /// Longest run.
   static constexpr int kMaxRunLength = 512;
 
   std::vector<SingleRun> runs;
   std::vector<float> rest, stiffness, inflow_a, inflow_b, outflow_a, outflow_b;
   int num_phantoms = 0;
+  /// The largest offset of a run: the longest overflow of a share (SingleShare).
+  int max_offset = 0;
 
   int num_slots() const { return static_cast<int>(rest.size()); }
 
@@ -66,44 +68,58 @@ struct SingleEndForces {
   MutableSingleNodeArrays b;
 };
 
-// The loops take runs [run_begin, run_end). `velocities` null: no dampers; else dampers of
-// tension beta k dL/dt. They are compiled for AVX2 + FMA where the CPU has it (chosen at load
-// time) and for baseline x86-64 otherwise; results for a given CPU and thread count are
-// deterministic. A slot of zero length (a phantom between coinciding nodes) exerts no force
-// instead of NaN; a model spring of zero length is outside ForceEvaluator's preconditions.
+/// A thread's share of the loops: the slots whose a ends are nodes [begin, end). A share writes
+/// the a ends' sums (forces, accumulators) of its own nodes only, and the b ends' of its own
+/// nodes, except that b ends at node `end` or beyond go to the share's overflow (index 0 at node
+/// `end`, at most the schedule's largest offset long). Disjoint shares therefore write disjoint
+/// memory, and one share [0, n) takes every slot, its overflow never written (b < n).
+struct SingleShare {
+  int begin;
+  int end;
+};
+
+// The loops take a share. `velocities` null: no dampers; else dampers of tension beta k dL/dt.
+// They are compiled for AVX2 + FMA where the CPU has it (chosen at load time) and for baseline
+// x86-64 otherwise; results for a given CPU and set of shares are deterministic. A slot of zero
+// length (a phantom between coinciding nodes) exerts no force instead of NaN; a model spring of
+// zero length is outside ForceEvaluator's preconditions.
 
 // The layout conversions around the loops, vectorised like them.
 
 /// Rounds n column-major 3-vectors minus `origin` into float x, y, z blocks of n (`arrays`).
 void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], float* arrays);
 
-/// From the a ends' and the b ends' accumulators (`accumulators`: J_a then J_b, n each): J =
-/// J_a + J_b and g = J / W (`inverse_star_weight` = 1 / W) in double, and g rounded to float.
+/// For nodes [begin, end), from the a ends' and the b ends' accumulators (`accumulators`: J_a
+/// then J_b, n each): J = J_a + J_b and g = J / W (`inverse_star_weight` = 1 / W) in double, and
+/// g rounded to float.
 void SingleDispersion(const float* accumulators, const double* inverse_star_weight, long n,
-                      double* j, double* g, float* g_single);
+                      long begin, long end, double* j, double* g, float* g_single);
 
-/// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) to n
-/// column-major 3-vectors.
-void AddSingleEndForces(const float* end_forces, long n, double* vectors);
+/// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) of nodes
+/// [begin, end) to their column-major 3-vectors.
+void AddSingleEndForces(const float* end_forces, long n, long begin, long end, double* vectors);
 /// The same, storing the sums instead of adding them.
-void StoreSingleEndForces(const float* end_forces, long n, double* vectors);
+void StoreSingleEndForces(const float* end_forces, long n, long begin, long end, double* vectors);
 
 /// Plain MSM: each slot's tension (spring plus damper) applied to both ends.
-void SinglePlainRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
-                     float beta, const SingleEndForces& forces);
+                     float beta, const SingleEndForces& forces,
+                     const MutableSingleNodeArrays& overflow);
 
 /// eMSM first pass: stores each slot's direct tension plus its damper's and 1 / L, and adds
-/// inflow * (direct tension) to the a ends' accumulators `j_a` and the b ends' `j_b`.
-void SingleInflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+/// inflow * (direct tension) to the a ends' accumulators `j_a` and the b ends' `j_b` (from node
+/// share.end on: `j_b_overflow`).
+void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                       const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
-                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b);
+                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b,
+                      float* j_b_overflow);
 
 /// eMSM second pass: total tension = stored tension + outflow_a g_a + outflow_b g_b (g = J / W
 /// per node), applied to both ends.
-void SingleOutflowRuns(const SinglePrecisionSprings& springs, int run_begin, int run_end,
+void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                        const SingleNodeArrays& positions, const float* dispersion_per_weight,
                        const float* tensions, const float* inverse_lengths,
-                       const SingleEndForces& forces);
+                       const SingleEndForces& forces, const MutableSingleNodeArrays& overflow);
 
 }  // namespace msm_sim::core

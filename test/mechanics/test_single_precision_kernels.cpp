@@ -205,14 +205,36 @@ TEST(SinglePrecisionEvaluator, SetForcesEqualsAddingOntoZero) {
 }
 
 TEST(SinglePrecisionEvaluator, TwoThreadsAgreeAndRepeat) {
-  // Above the evaluator's threshold for threads (50,000 springs).
+  // Above the evaluator's threshold for threads (1,000 nodes).
   const Model model = Block(0.45, 0.0035);
-  ASSERT_GE(model.num_springs(), 50'000);
+  ASSERT_GE(model.num_nodes(), 1'000);
   const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 6);
   const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 7);
   const Eigen::Matrix3Xd two = Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 2);
   EXPECT_EQ(two, Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 2));
   ExpectClose(model, two, Forces(model, SpringPrecision::kDouble, x, v, 1e-3));
+}
+
+// A slab three nodes thick in four node shares: each share is shorter than a layer, so a share's
+// b ends overflow past the next share into the one after it, and the overflows of two earlier
+// shares meet on the same nodes (SingleShare). Four shares run on a machine of any size (the
+// pool's caller runs those beyond its workers).
+TEST(SinglePrecisionEvaluator, SharesShorterThanTheLongestOffsetAgree) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(0.4, 0.4, 0.02);
+  options.spacing = 0.01;
+  for (const double poisson : {0.25, 0.45}) {
+    const Model model =
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
+    const int layer = 40 * 40;
+    ASSERT_GE(model.num_nodes(), 1'000);
+    ASSERT_LT(model.num_nodes() / 4, layer);
+    const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 8);
+    const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 9);
+    const Eigen::Matrix3Xd four = Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 4);
+    EXPECT_EQ(four, Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 4));
+    ExpectClose(model, four, Forces(model, SpringPrecision::kDouble, x, v, 1e-3));
+  }
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -69,9 +70,12 @@ enum class GeometricStiffness {
 /// model.num_nodes() columns and no spring has zero length.
 class ForceEvaluator {
  public:
-  /// `max_threads` (>= 1): the most threads the spring passes of a model with at least
-  /// kParallelSprings springs may use (the process's worker pool, no more than the hardware
-  /// threads); smaller models use one. One by default: a robot's simulator shares the cores.
+  /// `max_threads` (>= 1): the threads the spring passes may use, on the process's worker pool.
+  /// The double loops use up to that many (no more than the hardware threads) for models with
+  /// at least kParallelSprings springs; the single-precision loops split models with at least
+  /// kParallelSingleNodes nodes into exactly max_threads node shares, so that their sums depend
+  /// on the thread count only, not on the machine. Smaller models use one. One by default: a
+  /// robot's simulator shares the cores.
   explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
                           SpringKernels kernels = SpringKernels::kAuto, int max_threads = 1);
 
@@ -140,14 +144,22 @@ class ForceEvaluator {
   template <typename Body>
   void ForSprings(double* target, Eigen::Index target_size, Body&& body);
   /// The same over `count` work items (springs or runs); threads as for the model's springs.
-  template <typename Scalar, typename Body>
-  void ForShares(int count, Scalar* target, Eigen::Index target_size, Body&& body);
+  template <typename Body>
+  void ForShares(int count, double* target, Eigen::Index target_size, Body&& body);
   /// The vectorised evaluation (plain or two-pass eMSM) over the spring schedule.
   void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                       Eigen::Matrix3Xd* forces);
   /// The same in single precision (SpringPrecision::kSingle).
   void AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                         Eigen::Matrix3Xd* forces);
+  // Models with at least this many nodes split the single-precision loops into max_threads_
+  // node shares (SingleShare), which write disjoint memory: nothing to zero or add per thread
+  // but the short overflows past each share's last node.
+  static constexpr int kParallelSingleNodes = 1'000;
+  /// The number of node shares of the single-precision loops.
+  int SingleShares() const;
+  /// Runs task(t) for the shares t = 0 .. shares - 1, on the worker pool when there are several.
+  void RunShares(int shares, const std::function<void(int)>& task);
 
   template <bool Damped>
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -198,9 +210,8 @@ class ForceEvaluator {
   bool has_previous_dispersion_ = false;
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
   Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;            // dt / dL per spring (linearisation)
-  std::vector<Eigen::VectorXd> scratch_;         // per extra thread: its scatter buffer
-  std::vector<Eigen::VectorXf> single_scratch_;  // the same for the single-precision loops
+  Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
+  std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
   SpringPrecision precision_ = SpringPrecision::kDouble;
   bool totals_recorded_ = true;    // false after a single-precision evaluation
   bool overwrite_forces_ = false;  // during SetForces
@@ -210,6 +221,8 @@ class ForceEvaluator {
   // accumulators J of the a and b ends (N each), g = J / W (N); per slot: tensions and 1 / L.
   Eigen::VectorXf single_nodes_, single_accumulators_, single_dispersion_, single_tensions_,
       single_inverse_lengths_;
+  // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each.
+  Eigen::VectorXf single_overflows_;
 };
 
 }  // namespace msm_sim::core
