@@ -237,10 +237,25 @@ Eigen::Isometry3d World::GroupPose(const Group& group, double t) const {
 }
 
 void World::PlaceGroups(Body* body, double t) const {
-  for (const Group& group : body->groups) {
-    const Eigen::Isometry3d pose = GroupPose(group, t);
+  PlaceGroupNodes(body, GroupPoses(*body, t), 0, body->model->num_nodes());
+}
+
+std::vector<Eigen::Isometry3d> World::GroupPoses(const Body& body, double t) const {
+  std::vector<Eigen::Isometry3d> poses;
+  poses.reserve(body.groups.size());
+  for (const Group& group : body.groups) poses.push_back(GroupPose(group, t));
+  return poses;
+}
+
+void World::PlaceGroupNodes(Body* body, const std::vector<Eigen::Isometry3d>& poses, int begin,
+                            int end) {
+  for (std::size_t g = 0; g < body->groups.size(); ++g) {
+    const Group& group = body->groups[g];
     for (std::size_t k = 0; k < group.spec.nodes.size(); ++k) {
-      body->state.positions.col(group.spec.nodes[k]) = pose * Eigen::Vector3d(group.local.col(k));
+      const NodeIndex node = group.spec.nodes[k];
+      if (node >= begin && node < end) {
+        body->state.positions.col(node) = poses[g] * Eigen::Vector3d(group.local.col(k));
+      }
     }
   }
 }

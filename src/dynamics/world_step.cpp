@@ -250,13 +250,12 @@ void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
   const bool implicit = options_.integrator == Integrator::kImplicit;
   if (implicit) PlaceCollidersAtMidSubstep(h, start_poses, step_time);
   for (Body& body : bodies_) {
-    DriftHalf(&body, h, t0);         // 1
-    ApplyPendingRestitution(&body);  // 2
     if (implicit) {
+      DriftHalf(&body, h, t0);                           // 1
+      ApplyPendingRestitution(&body);                    // 2
       solver_iterations_ += ImplicitKick(&body, h, t0);  // 3-4 (world_implicit.cpp)
     } else {
-      ComputeForces(&body);  // 3
-      Kick(&body, h);        // 4
+      DriftForceAndKick(&body, h, t0);  // 1-4
     }
     DriveKinematicGroups(&body, h, t0);  // 4, for the nodes a frame dictates
   }
@@ -285,28 +284,61 @@ void World::DriftHalf(Body* body, double h, double t0) const {
 }
 
 void World::ApplyPendingRestitution(Body* body) {
-  for (const PendingResponse& response : body->pending) {
-    body->state.velocities.col(response.node) += response.delta_v;
-  }
+  ApplyPendingRestitution(body, 0, body->model->num_nodes());
   body->pending.clear();
+}
+
+void World::ApplyPendingRestitution(Body* body, int begin, int end) {
+  for (const PendingResponse& response : body->pending) {
+    if (response.node >= begin && response.node < end) {
+      body->state.velocities.col(response.node) += response.delta_v;
+    }
+  }
 }
 
 void World::ComputeForces(Body* body) {
   body->evaluator.SetForces(body->state.positions, body->state.velocities,
                             body->options.damping_beta, &body->forces);
+  AddPushes(body, 0, body->model->num_nodes());
+}
+
+void World::AddPushes(Body* body, int begin, int end) {
   for (const Push& push : body->pushes) {
     for (std::size_t k = 0; k < push.nodes.size(); ++k) {
-      body->forces.col(push.nodes[k]) += push.forces[k];
+      const NodeIndex node = push.nodes[k];
+      if (node >= begin && node < end) body->forces.col(node) += push.forces[k];
     }
   }
 }
 
-void World::Kick(Body* body, double h) const {
+void World::Kick(Body* body, double h, int begin, int end) const {
   // Gravity comes in the same pass over the nodes: this loop and the drifts are a third of a
   // 12k-node step besides the force evaluation.
   const double g[3] = {options_.gravity.x(), options_.gravity.y(), options_.gravity.z()};
-  KickNodes(body->model->num_nodes(), h, body->forces.data(), body->inverse_masses.data(), g,
-            body->state.velocities.data());
+  KickNodes(end - begin, h, body->forces.data() + 3L * begin, body->inverse_masses.data() + begin,
+            g, body->state.velocities.data() + 3L * begin);
+}
+
+void World::DriftForceAndKick(Body* body, double h, double t0) {
+  // Each node share of the force loops drifts, kicks and places its own nodes on its own thread
+  // (ForceEvaluator::NodeStages): they stay in that core's cache, and with two threads the
+  // per-node stages no longer wait on one core (docs/physics.md §9).
+  // The frames' poses here, on the caller's thread: a pose function need not be thread-safe.
+  const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
+  ForceEvaluator::NodeStages stages;
+  stages.before = [body, h, &poses](int begin, int end) {
+    Drift(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
+          body->state.positions.data() + 3L * begin);  // 1
+    PlaceGroupNodes(body, poses, begin, end);
+    ApplyPendingRestitution(body, begin, end);  // 2
+  };
+  stages.after = [this, body, h](int begin, int end) {
+    AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
+    Kick(body, h, begin, end);    // 4
+  };
+  body->evaluator.SetForces(body->state.positions, body->state.velocities,
+                            body->options.damping_beta, &body->forces, stages);
+  body->pending.clear();
 }
 
 void World::DriveKinematicGroups(Body* body, double h, double t0) const {
@@ -350,12 +382,20 @@ void World::DriftHalfNotingFastest(Body* body, double h, double t0) const {
   // component above max_speed / sqrt(3) (every node faster than max_speed has one) and any
   // non-finite value. One flat loop of reductions vectorises (tracking the fastest node in it
   // cost 4 % of a 4,000-node step); the rare flagged substep finds the node in a second pass.
+  // Each node share on its own thread, as in DriftForceAndKick.
   const double component_limit = options_.max_speed / std::sqrt(3.0);
-  double fastest_component = 0.0;
-  double nonfinite = 0.0;
-  DriftNotingExtremes(3L * body->model->num_nodes(), 0.5 * h, body->state.velocities.data(),
-                      body->state.positions.data(), &fastest_component, &nonfinite);
-  if (!(fastest_component <= component_limit) || nonfinite != 0.0) NoteFastest(body);
+  std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
+  body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+    DriftNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
+                        body->state.positions.data() + 3L * begin, &fastest[share],
+                        &nonfinite[share]);
+  });
+  for (std::size_t share = 0; share < fastest.size(); ++share) {
+    if (!(fastest[share] <= component_limit) || nonfinite[share] != 0.0) {
+      NoteFastest(body);
+      break;
+    }
+  }
   PlaceGroups(body, t0 + h);
 }
 

@@ -326,6 +326,38 @@ void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
   overwrite_forces_ = false;
 }
 
+void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
+                               const Eigen::Matrix3Xd& velocities, double damping_beta,
+                               Eigen::Matrix3Xd* forces, const NodeStages& stages) {
+  if (!UsesSingleLoops()) {
+    stages.before(0, model_->num_nodes());
+    SetForces(positions, velocities, damping_beta, forces);
+    stages.after(0, model_->num_nodes());
+    return;
+  }
+  stages_ = &stages;
+  SetForces(positions, velocities, damping_beta, forces);
+  stages_ = nullptr;
+}
+
+bool ForceEvaluator::UsesSingleLoops() const {
+  // As Accumulate chooses: the run kernels unless one-pass dispersion lags on a previous
+  // evaluation, in single precision where the model has them.
+  const bool lagged = passes_ == DispersionPasses::kOnePass && has_previous_dispersion_ &&
+                      model_->dispersion_fraction() != 0.0;
+  return scheduled_ && single_ && !lagged;
+}
+
+int ForceEvaluator::NumNodeShares() const { return UsesSingleLoops() ? SingleShares() : 1; }
+
+void ForceEvaluator::ForEachNodeShare(const std::function<void(int, int, int)>& task) {
+  const int count = NumNodeShares();
+  RunShares(count, [&](int t) {
+    const SingleShare share = NodeShare(t, count);
+    task(t, share.begin, share.end);
+  });
+}
+
 template <bool Damped>
 void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                 Eigen::Matrix3Xd* forces) {
@@ -412,6 +444,11 @@ int ForceEvaluator::SingleShares() const {
   return model_->num_nodes() >= kParallelSingleNodes ? max_threads_ : 1;
 }
 
+SingleShare ForceEvaluator::NodeShare(int t, int count) const {
+  const long long n = model_->num_nodes();
+  return {static_cast<int>(n * t / count), static_cast<int>(n * (t + 1) / count)};
+}
+
 void ForceEvaluator::RunShares(int shares, const std::function<void(int)>& task) {
   if (shares <= 1) {
     task(0);
@@ -452,28 +489,28 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   float* x = single_nodes_.data();
   float* v = x + 3 * n;
   float* f = x + 6 * n;
-  // Relative to node 0: a float resolves 6e-8 of the body's size, not of its distance from the
-  // world's origin.
-  const double origin[3] = {positions(0, 0), positions(1, 0), positions(2, 0)};
-  ToSingleNodeArrays(positions.data(), n, origin, x);
-  const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
-  const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
-  const SingleNodeArrays* velocities = nullptr;
-  if (damping.velocities != nullptr) {
-    const double zero[3] = {0.0, 0.0, 0.0};
-    ToSingleNodeArrays(damping.velocities, n, zero, v);
-    velocities = &v_arrays;
-  }
-  const auto beta = static_cast<float>(damping.beta);
-
   // Node shares, each with an overflow of max_offset floats for each of the b ends' x, y, z
   // forces and J_b.
   const int count = SingleShares();
   std::vector<SingleShare> shares(count);
-  for (int t = 0; t < count; ++t) {
-    shares[t] = {static_cast<int>(static_cast<long long>(n) * t / count),
-                 static_cast<int>(static_cast<long long>(n) * (t + 1) / count)};
-  }
+  for (int t = 0; t < count; ++t) shares[t] = NodeShare(t, count);
+
+  // Relative to node 0 (where it is before the stages move it): a float resolves 6e-8 of the
+  // body's size, not of its distance from the world's origin.
+  const double origin[3] = {positions(0, 0), positions(1, 0), positions(2, 0)};
+  const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
+  const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
+  const SingleNodeArrays* velocities = damping.velocities != nullptr ? &v_arrays : nullptr;
+  const auto beta = static_cast<float>(damping.beta);
+  RunShares(count, [&](int t) {
+    const SingleShare& share = shares[t];
+    if (stages_ != nullptr) stages_->before(share.begin, share.end);
+    ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
+    if (damping.velocities != nullptr) {
+      const double zero[3] = {0.0, 0.0, 0.0};
+      ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
+    }
+  });
   const long length = single_->max_offset;
   single_overflows_.resize(4 * length * count);
   const auto overflow = [&](int t, int block) {
@@ -500,6 +537,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     } else {
       AddSingleEndForces(f, n, share.begin, share.end, forces->data());
     }
+    if (stages_ != nullptr) stages_->after(share.begin, share.end);
   };
   const auto overflow_forces = [&](int t) {
     return MutableSingleNodeArrays{overflow(t, 0), overflow(t, 1), overflow(t, 2)};

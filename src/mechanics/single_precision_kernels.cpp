@@ -229,13 +229,14 @@ inline __attribute__((always_inline)) void OutflowRun(
 }  // namespace
 
 MSM_SIM_SIMD_CLONES
-void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], float* arrays) {
+void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, const double origin[3],
+                        float* arrays) {
   const double* __restrict from = vectors;
   float* __restrict x = arrays;
   float* __restrict y = arrays + n;
   float* __restrict z = arrays + 2 * n;
   const double ox = origin[0], oy = origin[1], oz = origin[2];
-  for (long i = 0; i < n; ++i) {
+  for (long i = begin; i < end; ++i) {
     x[i] = static_cast<float>(from[3 * i] - ox);
     y[i] = static_cast<float>(from[3 * i + 1] - oy);
     z[i] = static_cast<float>(from[3 * i + 2] - oz);

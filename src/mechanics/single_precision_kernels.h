@@ -86,8 +86,10 @@ struct SingleShare {
 
 // The layout conversions around the loops, vectorised like them.
 
-/// Rounds n column-major 3-vectors minus `origin` into float x, y, z blocks of n (`arrays`).
-void ToSingleNodeArrays(const double* vectors, long n, const double origin[3], float* arrays);
+/// Rounds column-major 3-vectors [begin, end) of n minus `origin` into float x, y, z blocks of
+/// n (`arrays`).
+void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, const double origin[3],
+                        float* arrays);
 
 /// For nodes [begin, end), from the a ends' and the b ends' accumulators (`accumulators`: J_a
 /// then J_b, n each): J = J_a + J_b and g = J / W (`inverse_star_weight` = 1 / W) in double, and

@@ -228,12 +228,20 @@ class World {
   void Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time);
   /// 1. x += h/2 v; kinematic nodes go where their frames are at t0 + h/2.
   void DriftHalf(Body* body, double h, double t0) const;
-  /// 2. v += the restitution left over from the last substep's contacts.
+  /// 2. v += the restitution left over from the last substep's contacts (then none pending).
   static void ApplyPendingRestitution(Body* body);
+  /// The same for the nodes [begin, end), leaving the list as it is.
+  static void ApplyPendingRestitution(Body* body, int begin, int end);
   /// 3. Springs, dampers and pushes into body->forces (gravity comes with the kick).
   static void ComputeForces(Body* body);
-  /// 4. v += h (F / m + g), for every node. Precondition: ComputeForces for this substep.
-  void Kick(Body* body, double h) const;
+  /// 3. Adds the pushes on nodes [begin, end) to body->forces.
+  static void AddPushes(Body* body, int begin, int end);
+  /// 4. v += h (F / m + g) for nodes [begin, end). Precondition: their forces of this substep.
+  void Kick(Body* body, double h, int begin, int end) const;
+  /// 1-4 of the explicit integrator: each node share of the body's force loops drifts, places
+  /// its kinematic nodes and applies its pending restitution, then, once its forces are set,
+  /// adds its pushes and kicks, all on the share's thread (ForceEvaluator::NodeStages).
+  void DriftForceAndKick(Body* body, double h, double t0);
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
   /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with
@@ -359,6 +367,12 @@ class World {
   Eigen::Isometry3d GroupPose(const Group& group, double t) const;
   /// Puts a body's kinematic nodes where their frames are at time t.
   void PlaceGroups(Body* body, double t) const;
+  /// The body's groups' frames at time t (s), in group order.
+  std::vector<Eigen::Isometry3d> GroupPoses(const Body& body, double t) const;
+  /// Puts the body's kinematic nodes in [begin, end) where `poses` (GroupPoses) put them; calls
+  /// no pose function, so node shares may run it on their threads.
+  static void PlaceGroupNodes(Body* body, const std::vector<Eigen::Isometry3d>& poses, int begin,
+                              int end);
   int microcollisions_ = 0;
   int solver_iterations_ = 0;           // during the current Step (implicit)
   bool stopped_after_failure_ = false;  // the last Step failed and stopped the bodies

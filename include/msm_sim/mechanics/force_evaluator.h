@@ -12,6 +12,7 @@ namespace msm_sim::core {
 
 struct ScheduledSpringData;
 struct SinglePrecisionSprings;
+struct SingleShare;
 
 /// How a force evaluation computes the eMSM momentum dispersion (docs/physics.md §3).
 enum class DispersionPasses {
@@ -99,6 +100,26 @@ class ForceEvaluator {
   void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
                  double damping_beta, Eigen::Matrix3Xd* forces);
 
+  /// Per-node work a caller does around SetForces on each node share's own thread ("owner
+  /// computes": a share's nodes stay in its core's cache from one step to the next).
+  /// `before(begin, end)` may change the positions and velocities of nodes [begin, end) before
+  /// SetForces reads them; `after(begin, end)` runs once their forces are set and may read or
+  /// change those forces and velocities. Neither may touch other nodes. Where the loops have no
+  /// shares (double precision, models below kParallelSingleNodes, one thread) they are called
+  /// once, with (0, N), before and after the evaluation.
+  struct NodeStages {
+    std::function<void(int, int)> before;
+    std::function<void(int, int)> after;
+  };
+  /// SetForces with `stages` (both set) run on each share.
+  void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
+                 double damping_beta, Eigen::Matrix3Xd* forces, const NodeStages& stages);
+  /// Runs task(share, begin, end) for each node share of SetForces' stages on its thread (one
+  /// share (0, 0, N) where there are none). Preconditions as for the stages.
+  void ForEachNodeShare(const std::function<void(int, int, int)>& task);
+  /// The number of shares ForEachNodeShare runs.
+  int NumNodeShares() const;
+
   /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
   /// Phi = sum_x J_x^2 / (2 q W_x). Phi is exact for linear springs; with the carrier law the
   /// dispersion follows the small-strain stiffness, so Phi is its potential to second order in
@@ -158,6 +179,10 @@ class ForceEvaluator {
   static constexpr int kParallelSingleNodes = 1'000;
   /// The number of node shares of the single-precision loops.
   int SingleShares() const;
+  /// Whether an evaluation now takes the single-precision loops.
+  bool UsesSingleLoops() const;
+  /// Share t of `count` node shares of the single-precision loops.
+  SingleShare NodeShare(int t, int count) const;
   /// Runs task(t) for the shares t = 0 .. shares - 1, on the worker pool when there are several.
   void RunShares(int shares, const std::function<void(int)>& task);
 
@@ -213,8 +238,9 @@ class ForceEvaluator {
   Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
   std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
   SpringPrecision precision_ = SpringPrecision::kDouble;
-  bool totals_recorded_ = true;    // false after a single-precision evaluation
-  bool overwrite_forces_ = false;  // during SetForces
+  bool totals_recorded_ = true;         // false after a single-precision evaluation
+  bool overwrite_forces_ = false;       // during SetForces
+  const NodeStages* stages_ = nullptr;  // during SetForces with stages, on the single loops
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
   // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each; the
