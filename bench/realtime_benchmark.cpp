@@ -1,10 +1,11 @@
 // Google Benchmark of the real-time issue's scene (`msm_lab realtime`): the 10 x 10 x 5 cm block
 // (E = 200 kPa, rho = 1100, dampers beta = 1e-4 s) on the ground, a 1 cm sphere pressing into
-// its top at 1 cm/s, 1 ms World steps on one thread, explicit integrator. Each iteration runs
+// its top at 1 cm/s, 1 ms World steps, explicit integrator. Each iteration runs
 // 0.1 s of simulated time through RunRealtimeExperiment and counts only its stepping (manual
 // time, the World's set-up and stable-step estimate excluded); `real_time_factor` is simulated
-// over stepping time. Variants: node spacing, Poisson's ratio and the spring loops' precision
-// (WorldOptions::spring_precision). Compare variants interleaved: --benchmark_filter=Realtime
+// over stepping time. Variants: node spacing, Poisson's ratio, the spring loops' precision
+// (WorldOptions::spring_precision) and the threads (WorldOptions::threads: 1, or 2 for the
+// single-precision loops, whose node shares then run the per-node stages too). Compare variants interleaved: --benchmark_filter=Realtime
 // --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 #include <map>
 #include <memory>
@@ -32,7 +33,7 @@ std::shared_ptr<const Model> RealtimeBlock(double spacing, double poisson) {
   return block;
 }
 
-// Arguments: spacing (um), nu (per mille), precision (0 double, 1 single).
+// Arguments: spacing (um), nu (per mille), precision (0 double, 1 single), threads.
 void BM_RealtimeBlock(benchmark::State& state) {
   const double spacing = state.range(0) * 1e-6;
   const double poisson = state.range(1) * 1e-3;
@@ -41,6 +42,7 @@ void BM_RealtimeBlock(benchmark::State& state) {
   options.seconds = 0.1;
   options.spring_precision =
       state.range(2) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble;
+  options.threads = static_cast<int>(state.range(3));
   RealtimeExperimentResult result;
   for (auto _ : state) {
     result = RunRealtimeExperiment(block, options);
@@ -52,9 +54,9 @@ void BM_RealtimeBlock(benchmark::State& state) {
   state.counters["peak_force_N"] = result.peak_force;
 }
 BENCHMARK(BM_RealtimeBlock)
-    ->ArgNames({"spacing_um", "nu_permille", "single"})
-    ->ArgsProduct({{5000}, {250, 490}, {0, 1}})
-    ->ArgsProduct({{4000}, {250, 490}, {0, 1}})
+    ->ArgNames({"spacing_um", "nu_permille", "single", "threads"})
+    ->ArgsProduct({{5000, 4000}, {250, 490}, {0}, {1}})
+    ->ArgsProduct({{5000, 4000}, {250, 490}, {1}, {1, 2}})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

@@ -86,7 +86,7 @@ struct WorldConfig {
   /// explicit (position Verlet in stable substeps) or implicit (one linearly implicit substep of
   /// up to 1 ms, docs/physics.md §7.1).
   core::Integrator integrator = core::Integrator::kExplicit;
-  /// The most threads a body's spring passes use (bodies of 50,000 springs or more).
+  /// The threads of a body's spring loops and per-node stages (core::WorldOptions::threads).
   int threads = 1;
   /// The spring loops' arithmetic in the dynamics (core::WorldOptions::spring_precision).
   core::SpringPrecision spring_precision = core::SpringPrecision::kSingle;

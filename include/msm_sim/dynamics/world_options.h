@@ -53,9 +53,12 @@ struct WorldOptions {
   double penetration_recovery_time = 0.05;
   /// ... at no more than this separation speed (m/s, >= 0; 0 turns the recovery off).
   double penetration_max_speed = 0.1;
-  /// The most threads (>= 1) each body's spring passes may use, for bodies of 50,000 springs
-  /// or more (ForceEvaluator: one by default, because two slowed a step fivefold when other
-  /// processes kept the cores busy); results are deterministic for a given thread count.
+  /// The threads (>= 1) each body's spring loops and explicit per-node stages use: the
+  /// single-precision loops of bodies of 1,000 nodes or more in exactly this many node shares,
+  /// the double loops of bodies of 50,000 springs or more on up to this many (ForceEvaluator).
+  /// One by default: two ran a 4,000-node step 1.37x faster on an idle 2-core machine, but at
+  /// 0.4-0.8x of one thread's speed while another process kept a core busy. Results are
+  /// deterministic for a given thread count.
   int threads = 1;
   /// The arithmetic of each body's spring loops in the dynamics (ForceEvaluator::set_precision).
   /// kSingle (the default) runs cubic lattices' springs in single precision, which made the
