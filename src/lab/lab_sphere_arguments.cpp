@@ -93,7 +93,8 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
       ->check(Finite(false));
   realtime
       ->add_option("--threads", contact.threads,
-                   "threads of the spring loops and per-node stages (node shares of blocks of 1,000 nodes or more)")
+                   "threads of the spring loops and per-node stages (node shares of blocks of "
+                   "1,000 nodes or more)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
   realtime->add_flag("--json", line->arguments.json, "print one JSON object");

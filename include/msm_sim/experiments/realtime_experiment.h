@@ -26,7 +26,7 @@ struct RealtimeExperimentOptions {
   double friction = 0.5;  ///< Coulomb coefficient of the body, the ground and the sphere, >= 0
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
-  int threads = 1;  ///< >= 1: WorldOptions::threads
+  int threads = 1;                                              ///< >= 1: WorldOptions::threads
   SpringPrecision spring_precision = SpringPrecision::kSingle;  ///< WorldOptions::spring_precision
 };
 
