@@ -5,7 +5,8 @@
 // time, the World's set-up and stable-step estimate excluded); `real_time_factor` is simulated
 // over stepping time. Variants: node spacing, Poisson's ratio, the spring loops' precision
 // (WorldOptions::spring_precision) and the threads (WorldOptions::threads: 1, or 2 for the
-// single-precision loops, whose node shares then run the per-node stages too). Compare variants interleaved: --benchmark_filter=Realtime
+// single-precision loops, whose node shares then run the per-node stages too). Compare variants
+// interleaved: --benchmark_filter=Realtime
 // --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 #include <map>
 #include <memory>
