@@ -19,7 +19,9 @@ namespace msm_sim::core {
 
 ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, SpringKernels kernels,
                                int max_threads)
-    : model_(&model), passes_(passes), max_threads_(std::max(1, max_threads)) {
+    : model_(&model),
+      passes_(passes),
+      max_threads_(std::clamp(max_threads, 1, WorkerPool::kMaxShares)) {
   const int n = model.num_nodes();
   const int num_springs = model.num_springs();
   const double q = model.dispersion_fraction();
@@ -74,7 +76,9 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, Spri
   }
 }
 
-void ForceEvaluator::set_max_threads(int max_threads) { max_threads_ = std::max(1, max_threads); }
+void ForceEvaluator::set_max_threads(int max_threads) {
+  max_threads_ = std::clamp(max_threads, 1, WorkerPool::kMaxShares);
+}
 
 void ForceEvaluator::set_precision(SpringPrecision precision) {
   precision_ = precision;

@@ -35,23 +35,63 @@ WorkerPool& WorkerPool::Shared() {
   return pool;
 }
 
+namespace {
+
+constexpr int kShareBits = 12;
+constexpr std::uint64_t kShareMask = (std::uint64_t{1} << kShareBits) - 1;
+
+std::uint64_t ClaimWord(std::uint64_t run, int shares, int next) {
+  return (run << (2 * kShareBits)) | (static_cast<std::uint64_t>(shares) << kShareBits) |
+         static_cast<std::uint64_t>(next);
+}
+
+}  // namespace
+
 void WorkerPool::Run(int shares, const std::function<void(int)>& task) {
-  const int parallel = std::min(shares, workers() + 1);
-  if (parallel > 1) {
-    task_ = &task;
-    pending_.store(parallel - 1, std::memory_order_relaxed);
-    ++runs_;
-    {
-      // The tickets move under the mutex a worker checks them under before it sleeps, so it
-      // cannot miss the notification.
-      std::lock_guard<std::mutex> lock(wake_mutex_);
-      for (int w = 0; w + 1 < parallel; ++w) tickets_[w].store(runs_, std::memory_order_release);
-    }
-    wake_.notify_all();
+  if (workers() == 0 || shares <= 1) {
+    for (int share = 0; share < shares; ++share) task(share);
+    return;
   }
+  task_ = &task;
+  pending_.store(shares - 1, std::memory_order_relaxed);
+  ++runs_;
+  claims_.store(ClaimWord(runs_, shares, 1), std::memory_order_release);
+  {
+    // The tickets move under the mutex a worker checks them under before it sleeps, so it
+    // cannot miss the notification.
+    std::lock_guard<std::mutex> lock(wake_mutex_);
+    const int woken = std::min(shares - 1, workers());
+    for (int w = 0; w < woken; ++w) tickets_[w].store(runs_, std::memory_order_release);
+  }
+  wake_.notify_all();
   task(0);
-  for (int share = parallel; share < shares; ++share) task(share);  // more shares than threads
-  if (parallel > 1) WaitUntilDone();
+  RunClaimedShares(runs_);  // the shares no worker has started
+  WaitUntilDone();
+}
+
+bool WorkerPool::Claim(std::uint64_t run, int* share) {
+  std::uint64_t word = claims_.load(std::memory_order_acquire);
+  for (;;) {
+    const int shares = static_cast<int>((word >> kShareBits) & kShareMask);
+    const int next = static_cast<int>(word & kShareMask);
+    if ((word >> (2 * kShareBits)) != run || next >= shares) return false;
+    if (claims_.compare_exchange_weak(word, word + 1, std::memory_order_acq_rel,
+                                      std::memory_order_acquire)) {
+      *share = next;
+      return true;
+    }
+  }
+}
+
+void WorkerPool::RunClaimedShares(std::uint64_t run) {
+  int share = 0;
+  while (Claim(run, &share)) {
+    (*task_)(share);
+    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+      std::lock_guard<std::mutex> lock(done_mutex_);
+      done_.notify_one();
+    }
+  }
 }
 
 void WorkerPool::WorkerLoop(int index) {
@@ -60,11 +100,7 @@ void WorkerPool::WorkerLoop(int index) {
     WaitForWork(index, seen);
     if (stop_.load(std::memory_order_acquire)) return;
     seen = tickets_[index].load(std::memory_order_acquire);
-    (*task_)(index + 1);
-    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard<std::mutex> lock(done_mutex_);
-      done_.notify_one();
-    }
+    RunClaimedShares(seen);
   }
 }
 

@@ -57,7 +57,7 @@ struct WorldOptions {
   /// single-precision loops of bodies of 1,000 nodes or more in exactly this many node shares,
   /// the double loops of bodies of 50,000 springs or more on up to this many (ForceEvaluator).
   /// One by default: two ran a 4,000-node step 1.37x faster on an idle 2-core machine, but at
-  /// 0.4-0.8x of one thread's speed while another process kept a core busy. Results are
+  /// 0.87-0.95x of one thread's speed while another process kept a core busy. Results are
   /// deterministic for a given thread count.
   int threads = 1;
   /// The arithmetic of each body's spring loops in the dynamics (ForceEvaluator::set_precision).

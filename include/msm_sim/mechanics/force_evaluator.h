@@ -71,7 +71,8 @@ enum class GeometricStiffness {
 /// model.num_nodes() columns and no spring has zero length.
 class ForceEvaluator {
  public:
-  /// `max_threads` (>= 1): the threads the spring passes may use, on the process's worker pool.
+  /// `max_threads` (>= 1, at most 4,095): the threads the spring passes may use, on the
+  /// process's worker pool.
   /// The double loops use up to that many (no more than the hardware threads) for models with
   /// at least kParallelSprings springs; the single-precision loops split models with at least
   /// kParallelSingleNodes nodes into exactly max_threads node shares, so that their sums depend
