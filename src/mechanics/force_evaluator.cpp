@@ -488,7 +488,7 @@ void GatherOverflows(const float* overflows, long stride, long length,
 
 void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                       Eigen::Matrix3Xd* forces) {
-  const int n = model_->num_nodes();
+  const Eigen::Index n = model_->num_nodes();
   single_nodes_.resize(12 * n);
   float* x = single_nodes_.data();
   float* v = x + 3 * n;
@@ -526,8 +526,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const auto clear = [&](int t, float* nodes, int blocks, int first, int last) {
     const SingleShare& share = shares[t];
     for (int b = 0; b < blocks; ++b) {
-      std::fill(nodes + b * static_cast<long>(n) + share.begin,
-                nodes + b * static_cast<long>(n) + share.end, 0.0f);
+      std::fill(nodes + b * n + share.begin, nodes + b * n + share.end, 0.0f);
     }
     std::fill(overflow(t, first), overflow(t, last) + length, 0.0f);
   };
