@@ -43,6 +43,17 @@ World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> bod
   stable_step = StableTimeStep(*model, step);
 }
 
+void World::ImpulseSum::Merge(const ImpulseSum& other) {
+  impulse += other.impulse;
+  moment += other.moment;
+  weighted_point += other.weighted_point;
+  weight += other.weight;
+  count += other.count;
+  normal_impulses += other.normal_impulses;
+  normal_impulse += other.normal_impulse;
+  area_time += other.area_time;
+}
+
 void World::ImpulseSum::Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
                             const Eigen::Vector3d& on_collider) {
   // Tested on the square: the branch then need not wait for the square root.

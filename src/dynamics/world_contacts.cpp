@@ -83,15 +83,52 @@ double World::Friction(const Body& body, int collider) const {
 void World::CollideWithColliders(Body* body, int* microcollisions) {
   if (colliders_.empty()) return;
   const std::vector<ColliderFrame> frames = FrameColliders();
-  FlagNodesNearColliders(frames, body);
+  body->near_collider.resize(body->border.nodes.size());
+  // Each node share takes the border nodes among its nodes (border nodes are in node order), on
+  // its own thread, where the share's positions and velocities are in cache: the first share
+  // records into the body's records, the others into their own, added after in share order,
+  // so the pending rebounds and contact points keep the order one share gives.
+  const int shares = body->evaluator.NumNodeShares();
+  body->share_records.resize(shares - 1);
+  std::vector<int> counts(shares, 0);
+  const std::vector<NodeIndex>& border = body->border.nodes;
+  body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+    const auto k_begin = static_cast<std::size_t>(
+        std::lower_bound(border.begin(), border.end(), begin) - border.begin());
+    const auto k_end = static_cast<std::size_t>(
+        std::lower_bound(border.begin(), border.end(), end) - border.begin());
+    ContactRecords records = body->Records();
+    if (share > 0) {
+      ShareRecords& own = body->share_records[share - 1];
+      own.impulses.assign(body->impulses.size(), ImpulseSum{});
+      own.pending.clear();
+      own.points.clear();
+      records = {&own.impulses, &own.pending, &own.points};
+    }
+    CollideBorderNodes(frames, body, k_begin, k_end, &records);
+    counts[share] = records.microcollisions;
+  });
+  for (int share = 1; share < shares; ++share) {
+    const ShareRecords& own = body->share_records[share - 1];
+    for (std::size_t w = 0; w < own.impulses.size(); ++w) body->impulses[w].Merge(own.impulses[w]);
+    body->pending.insert(body->pending.end(), own.pending.begin(), own.pending.end());
+    body->contact_points.insert(body->contact_points.end(), own.points.begin(), own.points.end());
+  }
+  for (const int count : counts) *microcollisions += count;
+}
+
+void World::CollideBorderNodes(const std::vector<ColliderFrame>& frames, Body* body,
+                               std::size_t k_begin, std::size_t k_end,
+                               ContactRecords* records) const {
+  FlagNodesNearColliders(frames, body, k_begin, k_end);
   std::vector<NodeContact> contacts;
-  for (std::size_t k = 0; k < body->border.nodes.size(); ++k) {
+  for (std::size_t k = k_begin; k < k_end; ++k) {
     const NodeIndex node = body->border.nodes[k];
     if (!body->near_collider[k] || body->constrained[node]) continue;
     DetectColliderContacts(frames, body->state.positions.col(node),
                            kPatchReach * body->border.radii[k], &contacts);
     if (contacts.empty()) continue;
-    CountInPatches(body, k, &contacts);
+    CountInPatches(*body, k, &contacts, records);
     if (contacts.empty()) continue;
     Eigen::Vector3d v = body->state.velocities.col(node);
     StopColliderApproaches(&contacts, &v);
@@ -99,20 +136,20 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
       if (contact.stopped <= 0.0) continue;
       const bool recovering =
           contact.distance < body->border.radii[k] * (1.0 - kFrictionlessOverlap);
-      RespondToColliderContact(body, node, contact, recovering, &v);
-      ++*microcollisions;
+      RespondToColliderContact(*body, node, contact, recovering, &v, records);
+      ++records->microcollisions;
     }
     body->state.velocities.col(node) = v;
     RecoverFromColliders(body, node, body->border.radii[k], contacts);
   }
 }
 
-void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body) const {
+void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body,
+                                   std::size_t k_begin, std::size_t k_end) const {
   // One tight pass per collider over the border nodes: most of them are far from every
   // collider (a resting block's sides and top), and rejecting them node by node inside
   // DetectColliderContacts was most of the detection's cost.
-  const std::size_t count = body->border.nodes.size();
-  body->near_collider.assign(count, 0);
+  std::fill(body->near_collider.begin() + k_begin, body->near_collider.begin() + k_end, 0);
   char* __restrict near = body->near_collider.data();
   const NodeIndex* nodes = body->border.nodes.data();
   const double* radii = body->border.radii.data();
@@ -122,7 +159,7 @@ void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Bod
     const ColliderFrame& frame = frames[c];
     if (!frame.bounded) {
       const Eigen::Vector3d& n = frame.plane_normal;
-      for (std::size_t k = 0; k < count; ++k) {
+      for (std::size_t k = k_begin; k < k_end; ++k) {
         const double* p = x + 3 * static_cast<std::ptrdiff_t>(nodes[k]);
         const double distance = n.x() * p[0] + n.y() * p[1] + n.z() * p[2] - frame.plane_offset;
         near[k] |= static_cast<char>(distance < kPatchReach * radii[k]);
@@ -130,7 +167,7 @@ void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Bod
       continue;
     }
     const Eigen::Vector3d lo = frame.world_box.min(), hi = frame.world_box.max();
-    for (std::size_t k = 0; k < count; ++k) {
+    for (std::size_t k = k_begin; k < k_end; ++k) {
       const double* p = x + 3 * static_cast<std::ptrdiff_t>(nodes[k]);
       const double reach = kPatchReach * radii[k];
       near[k] |= static_cast<char>(p[0] >= lo.x() - reach && p[0] <= hi.x() + reach &&
@@ -140,10 +177,11 @@ void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Bod
   }
 }
 
-void World::CountInPatches(Body* body, std::size_t k, std::vector<NodeContact>* contacts) const {
-  const double radius = body->border.radii[k];
+void World::CountInPatches(const Body& body, std::size_t k, std::vector<NodeContact>* contacts,
+                           ContactRecords* records) const {
+  const double radius = body.border.radii[k];
   for (const NodeContact& contact : *contacts) {
-    body->impulses[contact.collider].area_time += body->border.surface_shares[k] * substep_;
+    (*records->impulses)[contact.collider].area_time += body.border.surface_shares[k] * substep_;
   }
   // Only the spheres that overlap collide.
   contacts->erase(std::remove_if(contacts->begin(), contacts->end(),
@@ -177,6 +215,7 @@ std::vector<World::ContactNormal> World::DeepestColliderContacts(const Body& bod
 
 void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
                                   const Eigen::Matrix3Xd& residual) {
+  ContactRecords records = body->Records();
   for (const ContactNormal& contact : held) {
     const Eigen::Vector3d impulse = -residual.col(contact.node);
     const double normal = impulse.dot(contact.normal);
@@ -195,22 +234,22 @@ void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& 
     const Eigen::Vector3d friction =
         CoulombFriction(sliding, contact.friction * (normal / m + rebound));
     v += friction;
-    RecordColliderImpulse(body, contact.node, contact.collider, contact.point, contact.normal,
+    RecordColliderImpulse(&records, contact.node, contact.collider, contact.point, contact.normal,
                           normal + m * rebound, -m * friction);
     ++microcollisions_;
   }
 }
 
-void World::RecordColliderImpulse(Body* body, NodeIndex node, int collider,
+void World::RecordColliderImpulse(ContactRecords* records, NodeIndex node, int collider,
                                   const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
                                   double normal_impulse, const Eigen::Vector3d& tangential) const {
   const Eigen::Vector3d on_collider = tangential - normal_impulse * normal;
-  ImpulseSum& sum = body->impulses[collider];
+  ImpulseSum& sum = (*records->impulses)[collider];
   sum.Add(point, colliders_[collider].pose.translation(), on_collider);
   sum.normal_impulses += normal_impulse * normal;
   sum.normal_impulse += normal_impulse;
   if (options_.record_contact_points) {
-    body->contact_points.push_back(
+    records->points->push_back(
         {collider, node, substep_index_, point, normal, normal_impulse, tangential});
   }
 }
@@ -290,10 +329,11 @@ void World::StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Ve
   }
 }
 
-void World::RespondToColliderContact(Body* body, NodeIndex node, const NodeContact& contact,
-                                     bool frictionless, Eigen::Vector3d* v) const {
+void World::RespondToColliderContact(const Body& body, NodeIndex node, const NodeContact& contact,
+                                     bool frictionless, Eigen::Vector3d* v,
+                                     ContactRecords* records) const {
   const Collider& collider = colliders_[contact.collider];
-  const double e = std::min(collider.restitution, body->options.restitution);
+  const double e = std::min(collider.restitution, body.options.restitution);
   // Friction: up to mu times this contact's normal velocity change, against the sliding
   // velocity, never reversing it.
   const Eigen::Vector3d relative = *v - contact.velocity;
@@ -301,12 +341,12 @@ void World::RespondToColliderContact(Body* body, NodeIndex node, const NodeConta
   Eigen::Vector3d friction = Eigen::Vector3d::Zero();
   if (!frictionless) {
     friction =
-        CoulombFriction(sliding, Friction(*body, contact.collider) * (1.0 + e) * contact.stopped);
+        CoulombFriction(sliding, Friction(body, contact.collider) * (1.0 + e) * contact.stopped);
     *v += friction;
   }
-  if (e > 0.0) body->pending.push_back({node, e * contact.stopped * contact.normal});
-  const double m = body->model->masses()[node];
-  RecordColliderImpulse(body, node, contact.collider, contact.point, contact.normal,
+  if (e > 0.0) records->pending->push_back({node, e * contact.stopped * contact.normal});
+  const double m = body.model->masses()[node];
+  RecordColliderImpulse(records, node, contact.collider, contact.point, contact.normal,
                         m * (1.0 + e) * contact.stopped, -m * friction);
 }
 

@@ -158,6 +158,22 @@ class World {
     double area_time = 0.0;  // m^2 s, touching nodes' surface shares times their substeps
     void Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
              const Eigen::Vector3d& on_collider);
+    /// Adds another sum's parts (a node share's, World::CollideWithColliders).
+    void Merge(const ImpulseSum& other);
+  };
+  // Where the contact stage records what it does, for the colliders' wrenches, the next
+  // substep and the contact points: a body's own records, or a node share's (CollideWithColliders).
+  struct ContactRecords {
+    std::vector<ImpulseSum>* impulses;      // colliders, then groups
+    std::vector<PendingResponse>* pending;  // rebounds for the next substep
+    std::vector<ContactPoint>* points;      // if recorded
+    int microcollisions = 0;
+  };
+  // A node share's records beyond the first share, added to the body's in share order.
+  struct ShareRecords {
+    std::vector<ImpulseSum> impulses;
+    std::vector<PendingResponse> pending;
+    std::vector<ContactPoint> points;
   };
   struct Body {
     /// At rest, with everything derived from the model: border, stable step (for the World's
@@ -189,7 +205,10 @@ class World {
     std::vector<ImpulseSum> impulses;                 // colliders, then groups (during a Step)
     std::vector<ContactWrench> wrenches;              // colliders, then groups (of the last Step)
     std::vector<ContactPoint> contact_points;         // of the last Step, if recorded
-    std::vector<char> near_collider;  // per border node, this substep: within reach of one
+    std::vector<char> near_collider;          // per border node, this substep: within reach of one
+    std::vector<ShareRecords> share_records;  // the contact stage's shares after the first
+    /// The body's own contact records.
+    ContactRecords Records() { return {&impulses, &pending, &contact_points}; }
   };
 
   // Where a Step started, for a rejected one to return to (bodies keep their own saved states).
@@ -304,12 +323,20 @@ class World {
 
   // Contacts (world_contacts.cpp). Precondition: the impulses are sized (ClearStepRecords).
   /// Stops every approach of body's free border nodes towards the colliders, with friction.
+  /// Runs on the node shares of the body's force loops (ForceEvaluator::ForEachNodeShare), each
+  /// share taking the border nodes among its nodes and recording into its own ContactRecords,
+  /// added to the body's in share order: with one share the body's records directly.
   void CollideWithColliders(Body* body, int* microcollisions);
+  /// Border nodes [k_begin, k_end) of CollideWithColliders.
+  void CollideBorderNodes(const std::vector<ColliderFrame>& frames, Body* body, std::size_t k_begin,
+                          std::size_t k_end, ContactRecords* records) const;
   /// Each collider's inverse pose and bounds (computed once per body and substep).
   std::vector<ColliderFrame> FrameColliders() const;
-  /// Flags in body->near_collider the border nodes that pass DetectColliderContacts' first
-  /// tests (a plane's distance, a bounded collider's world box) for some enabled collider.
-  void FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body) const;
+  /// Flags in body->near_collider the border nodes [k_begin, k_end) that pass
+  /// DetectColliderContacts' first tests (a plane's distance, a bounded collider's world box)
+  /// for some enabled collider. Precondition: near_collider sized to the border.
+  void FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body,
+                              std::size_t k_begin, std::size_t k_end) const;
   /// Replaces *contacts with the enabled colliders a node at x with this radius (m) touches.
   /// Precondition: frames from FrameColliders for the colliders' current poses.
   void DetectColliderContacts(const std::vector<ColliderFrame>& frames, const Eigen::Vector3d& x,
@@ -318,17 +345,19 @@ class World {
   void StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Vector3d* v) const;
   /// Friction into *v (none if `frictionless`: a node being recovered from a deep overlap), the
   /// rebound pending, the impulse recorded. Precondition: stopped > 0.
-  void RespondToColliderContact(Body* body, NodeIndex node, const NodeContact& contact,
-                                bool frictionless, Eigen::Vector3d* v) const;
+  void RespondToColliderContact(const Body& body, NodeIndex node, const NodeContact& contact,
+                                bool frictionless, Eigen::Vector3d* v,
+                                ContactRecords* records) const;
   /// The impulse a node gave a collider in this substep (normal_impulse N s along -normal,
   /// tangential N s along the surface) into the collider's sum and, if recording, the contact
   /// points.
-  void RecordColliderImpulse(Body* body, NodeIndex node, int collider, const Eigen::Vector3d& point,
-                             const Eigen::Vector3d& normal, double normal_impulse,
-                             const Eigen::Vector3d& tangential) const;
+  void RecordColliderImpulse(ContactRecords* records, NodeIndex node, int collider,
+                             const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                             double normal_impulse, const Eigen::Vector3d& tangential) const;
   /// Border node k's surface share into the patch of every collider in *contacts (detected with
   /// the patch's reach), then drops those its collision sphere does not overlap.
-  void CountInPatches(Body* body, std::size_t k, std::vector<NodeContact>* contacts) const;
+  void CountInPatches(const Body& body, std::size_t k, std::vector<NodeContact>* contacts,
+                      ContactRecords* records) const;
   /// Stops every approach between touching border nodes (of two bodies, or a folded one).
   void CollideNodes(int* microcollisions);
 
