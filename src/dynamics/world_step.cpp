@@ -251,8 +251,8 @@ void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
   if (implicit) PlaceCollidersAtMidSubstep(h, start_poses, step_time);
   for (Body& body : bodies_) {
     if (implicit) {
-      DriftHalf(&body, h, t0);                           // 1
-      ApplyPendingRestitution(&body);                    // 2
+      DriftHalf(&body, h, GroupPoses(body, t0 + 0.5 * h), 0, body.model->num_nodes());  // 1
+      ApplyPendingRestitution(&body);                                                   // 2
       solver_iterations_ += ImplicitKick(&body, h, t0);  // 3-4 (world_implicit.cpp)
     } else {
       DriftForceAndKick(&body, h, t0);  // 1-4
@@ -277,10 +277,11 @@ void World::NoteFastest(Body* body) {
   }
 }
 
-void World::DriftHalf(Body* body, double h, double t0) const {
-  Drift(3L * body->model->num_nodes(), 0.5 * h, body->state.velocities.data(),
-        body->state.positions.data());
-  PlaceGroups(body, t0 + 0.5 * h);
+void World::DriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>& poses, int begin,
+                      int end) {
+  Drift(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
+        body->state.positions.data() + 3L * begin);
+  PlaceGroupNodes(body, poses, begin, end);
 }
 
 void World::ApplyPendingRestitution(Body* body) {
@@ -327,9 +328,7 @@ void World::DriftForceAndKick(Body* body, double h, double t0) {
   const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
   ForceEvaluator::NodeStages stages;
   stages.before = [body, h, &poses](int begin, int end) {
-    Drift(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
-          body->state.positions.data() + 3L * begin);  // 1
-    PlaceGroupNodes(body, poses, begin, end);
+    DriftHalf(body, h, poses, begin, end);      // 1
     ApplyPendingRestitution(body, begin, end);  // 2
   };
   stages.after = [this, body, h](int begin, int end) {

@@ -245,8 +245,10 @@ class World {
 
   // Substep: the seven stages of the class comment; a substep of h (s) from t0 = time_ + step_time.
   void Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time);
-  /// 1. x += h/2 v; kinematic nodes go where their frames are at t0 + h/2.
-  void DriftHalf(Body* body, double h, double t0) const;
+  /// 1. x += h/2 v for nodes [begin, end); their kinematic nodes go where `poses` (GroupPoses
+  /// at t0 + h/2) put them.
+  static void DriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>& poses,
+                        int begin, int end);
   /// 2. v += the restitution left over from the last substep's contacts (then none pending).
   static void ApplyPendingRestitution(Body* body);
   /// The same for the nodes [begin, end), leaving the list as it is.
