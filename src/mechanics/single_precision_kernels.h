@@ -28,7 +28,8 @@ struct SingleRun {
 struct SinglePrecisionSprings {
   /// Longest gap (missing springs in a row of one offset) that phantoms bridge.
   static constexpr int kMaxGap = 8;
-  /// Longest run.
+  /// Longest run. It bounded the threads' imbalance while shares were cut between runs; node
+  /// shares (SingleShare) now cut runs anywhere, and longer runs were not measured.
   static constexpr int kMaxRunLength = 512;
 
   std::vector<SingleRun> runs;
