@@ -29,7 +29,8 @@ constexpr double kRecoverySlop = 0.01;
 // the nodes stuck wherever the normal push had moved them: a sphere teleported 4 mm into a
 // block recovered 0.83 (nu 0.25) and 0.69 (nu 0.45) of the slowly pressed force, frictionless
 // 0.95 and 0.92 (docs/physics.md §7.2). The implicit kick's held contacts keep their
-// friction: frictionless, a box teleported into the block there burst with kinetic energy.
+// friction: frictionless, a box teleported into the block burst with kinetic energy there
+// (before the end-position kick) and read no closer to the pressed force (after it).
 constexpr double kFrictionlessOverlap = 0.1;
 
 // Coulomb friction's velocity change for a node sliding at `sliding` (tangential, relative to the

@@ -106,7 +106,13 @@ int World::SolveImplicitKick(Body* body, double h, double t0, double c,
   solver.reference_norm =
       h * options_.gravity.norm() * projection.free.row(0).cwiseProduct(m.transpose()).norm();
   const Eigen::Matrix3Xd inverse_diagonal = InverseSystemDiagonal(body->evaluator, m, c);
-  const Eigen::Matrix3Xd b = h * body->forces;
+  // The elastic force at the substep's end position x' = x_mid + h/2 (v + dv), to first order:
+  // F(x_mid) - K h/2 (v + dv). Its h/2 K dv part is c's h^2/2; the known h/2 K v part goes to
+  // the right-hand side. Taken there (not at x_mid + h/2 dv, which conserved only a modified
+  // energy and let the held contacts' rebound feed a bouncing body), the kick never adds
+  // energy: dKE = F(x') . (x' - x) <= U(x) - U(x') for a convex potential (docs/physics.md §7.1).
+  body->evaluator.ApplyStiffness(v, &stiffness_product);
+  const Eigen::Matrix3Xd b = h * body->forces - (0.5 * h * h) * stiffness_product;
   int iterations = 0;
   for (int pass = 0; pass < 2; ++pass) {
     // The start: the warm start's free part, plus the held parts, known.

@@ -132,48 +132,50 @@ std::shared_ptr<const Model> SingleSpring() {
   return std::make_shared<Model>(builder.Build(1e-6, 0.01));
 }
 
-// (b) The undamped spring at 100 times the explicit stable step: the scheme's modified energy
-// a^2 s e^2 + (1 - a^2 s / 4) (h w)^2 (e the extension, w its rate, a = h omega,
-// s = 1 / (1 + a^2 / 2)) is conserved, and the true energy, started at rest, never exceeds its
-// start (it dips while the mode's energy is kinetic: by up to 1 + a^2/4, the price of large a).
-TEST(ImplicitIntegrator, UndampedSpringKeepsItsModifiedEnergyAtHundredTimesTheStableStep) {
+// (b) The undamped spring at 100 times the explicit stable step. The kick takes the elastic
+// force at the substep's end position x' = x + h (v + v') / 2, so for a linear spring (stiffness
+// k, extension e) each step loses exactly E - E' = k (e' - e)^2 / 2 (kinetic change
+// F(x') . (x' - x) against the potential's exact second-order expansion): the energy never rises,
+// and it falls by the identity's amount, step by step.
+TEST(ImplicitIntegrator, UndampedSpringLosesExactlyTheEndPointSchemesEnergyEveryStep) {
   const auto model = SingleSpring();
+  const double k = 1000.0;
   const double h = 100.0 * ExplicitStableStep(model, 0.0);
-  const double omega = std::sqrt(1000.0 * 2.0);
-  const double a = h * omega, s = 1.0 / (1.0 + 0.5 * a * a);
   World world(ImplicitOptions(h));
   const int body = world.AddBody("spring", model);
   State state = world.state(body);
   state.positions(0, 1) += 0.01;
   world.SetState(body, state);
-  const auto modified = [&] {
-    const State& x = world.state(body);
-    const double e = x.positions(0, 1) - x.positions(0, 0) - 0.1;
-    const double w = h * (x.velocities(0, 1) - x.velocities(0, 0));
-    return a * a * s * e * e + (1.0 - 0.25 * a * a * s) * w * w;
+  const auto extension = [&] {
+    const Eigen::Matrix3Xd& x = world.state(body).positions;
+    return x(0, 1) - x(0, 0) - 0.1;
   };
-  const double q0 = modified(), e0 = world.ComputeEnergies(body).total();
-  double worst_q = 0.0, highest = 0.0, lowest = 1.0;
+  const double e0 = world.ComputeEnergies(body).total();
+  double previous_energy = e0, previous_extension = extension();
+  double worst_identity = 0.0, largest_rise = -1.0;
   for (int step = 0; step < 300; ++step) {
     ASSERT_TRUE(world.Step(h).accepted);
-    worst_q = std::max(worst_q, std::abs(modified() / q0 - 1.0));
-    const double e = world.ComputeEnergies(body).total() / e0;
-    highest = std::max(highest, e);
-    lowest = std::min(lowest, e);
+    const double energy = world.ComputeEnergies(body).total();
+    const double loss = 0.5 * k * std::pow(extension() - previous_extension, 2);
+    worst_identity = std::max(worst_identity, std::abs((previous_energy - energy) - loss) / e0);
+    largest_rise = std::max(largest_rise, (energy - previous_energy) / e0);
+    previous_energy = energy;
+    previous_extension = extension();
   }
   std::printf(
-      "  h = %.3g s (a = h omega = %.1f): modified energy within %.2g, true energy in "
-      "[%.4g, %.6f] of its start\n",
-      h, a, worst_q, lowest, highest);
-  EXPECT_LT(worst_q, 1e-3);
-  EXPECT_LT(highest, 1.0 + 1e-3);
+      "  h = %.3g s (h omega = %.1f): each step's loss equals k de^2 / 2 within %.2g of the "
+      "start's energy; largest rise in a step %.2g; %.3g of the energy left after 300 steps\n",
+      h, h * std::sqrt(2.0 * k), worst_identity, largest_rise, previous_energy / e0);
+  EXPECT_LT(worst_identity, 1e-9);
+  EXPECT_LE(largest_rise, 1e-12);
+  EXPECT_LT(previous_energy, e0);
 }
 
 // (b) A free block squeezed by 0.1 % along z and released, at 50 times the explicit stable step:
-// undamped, its energy never rises above the start in the linear limit (every mode starts with
-// its largest true energy, see above); the geometric non-linearity moves energy between modes and
-// lets it exceed the start in proportion to the squeeze (measured: 2.7 % at a 1 % squeeze, 0.26 %
-// at 0.1 %), hence the 0.5 % bound. With dampers it decays, window after window.
+// with or without dampers no step adds energy beyond the solver's tolerance (1e-6 of the start,
+// where the energy has fallen to the conjugate-gradient residual's level), and it decays window
+// after window until it reaches that level. At h omega >> 1 the end-point kick damps most of the
+// squeeze's modes within a step (docs/physics.md §7.1: the price of large steps).
 TEST(ImplicitIntegrator, SqueezedBlockEnergyIsBoundedAndDampersDissipateIt) {
   const auto model = Block(Eigen::Vector3d(0.04, 0.04, 0.02), 0.005, 0.25);
   for (const double beta : {0.0, 1e-4}) {
@@ -190,50 +192,70 @@ TEST(ImplicitIntegrator, SqueezedBlockEnergyIsBoundedAndDampersDissipateIt) {
     const double e0 = world.ComputeEnergies(body).total();
     const int steps = 300, window = 30;
     std::vector<double> window_peaks(steps / window, 0.0);
-    double highest = 0.0, largest_rise = 0.0, previous = e0;
+    double after_first = 0.0, largest_rise = 0.0, previous = e0;
     for (int step = 0; step < steps; ++step) {
       const StepReport report = world.Step(h);
       ASSERT_TRUE(report.accepted) << report.reason;
       iterations += report.solver_iterations;
       const double e = world.ComputeEnergies(body).total();
-      highest = std::max(highest, e / e0);
-      largest_rise = std::max(largest_rise, e / previous - 1.0);
+      if (step == 0) after_first = e / e0;
+      largest_rise = std::max(largest_rise, (e - previous) / e0);
       previous = e;
       window_peaks[step / window] = std::max(window_peaks[step / window], e / e0);
     }
     const double loss_per_second = (e0 - previous) / (steps * h);
     std::printf(
-        "  beta %.0e s, h = %.3g s: energy at most %.6f of its start, largest rise in "
-        "one step %.3g %%, %.3g of it left after %.3g s (%.3g J/s lost), %d CG iterations\n",
-        beta, h, highest, 100 * largest_rise, previous / e0, steps * h, loss_per_second,
-        iterations);
+        "  beta %.0e s, h = %.3g s: %.4g of the energy left after one step, largest rise in "
+        "one step %.3g of the start, %.3g left after %.3g s (%.3g J/s lost), %d CG iterations\n",
+        beta, h, after_first, largest_rise, previous / e0, steps * h, loss_per_second, iterations);
     RecordProperty(beta > 0.0 ? "damped_loss_per_second" : "undamped_loss_per_second",
                    std::to_string(loss_per_second));
-    EXPECT_LT(highest, 1.0 + 5e-3);
-    if (beta > 0.0) {
-      for (std::size_t w = 1; w < window_peaks.size(); ++w) {
-        EXPECT_LT(window_peaks[w], window_peaks[w - 1]) << "window " << w;
-      }
+    EXPECT_LT(largest_rise, 1e-6);
+    for (std::size_t w = 1; w < window_peaks.size() && window_peaks[w - 1] > 1e-6; ++w) {
+      EXPECT_LT(window_peaks[w], window_peaks[w - 1]) << "window " << w;
     }
   }
 }
 
-// (c) Thesis 6.4 with implicit steps of 5 times the explicit stable step.
-TEST(ImplicitIntegrator, SlidingBoxStopsAfterTheCoulombDistance) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  lattice.spacing = 0.5;
-  lattice.construction = CubicConstruction::kElementCorner;
-  const auto box = std::make_shared<Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 0.5), lattice));
-  SlideExperimentOptions options;
-  options.integrator = Integrator::kImplicit;
-  options.step = 5.0 * ExplicitStableStep(box, 0.0);
-  const SlideExperimentResult r = RunSlideExperiment(box, options);
-  std::printf("  step %.3g ms: distance %.4f m, theory %.4f m (%+.2f %%)\n", 1e3 * options.step,
-              r.distance, r.theory_distance, 100 * (r.distance / r.theory_distance - 1));
-  EXPECT_TRUE(r.stopped);
-  EXPECT_NEAR(r.distance / r.theory_distance, 1.0, 0.05);
+// (c) Thesis 6.4 with implicit steps: boxes 2 x 1 x 1 m of 3 x 2 x 2, 5 x 3 x 3 and 9 x 5 x 5
+// nodes (1 kg) slide from v0 to rest after v0^2 / (2 mu g) within 5 %, the three within 3 % of
+// each other, for the two (v0, mu) pairs of the explicit test; every box takes the same step,
+// five times the finest box's explicit stable step.
+TEST(ImplicitIntegrator, SlidingBoxesStopAfterTheCoulombDistanceAtEveryResolution) {
+  std::vector<std::shared_ptr<const Model>> boxes;
+  for (const int n : {2, 3, 5}) {
+    CubicLatticeOptions lattice;
+    lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
+    lattice.spacing = 1.0 / (n - 1);
+    lattice.construction = CubicConstruction::kElementCorner;
+    boxes.push_back(std::make_shared<Model>(
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 0.5), lattice)));
+  }
+  const double step = 5.0 * ExplicitStableStep(boxes.back(), 0.0);
+  struct Case {
+    double v0, mu;
+  };
+  for (const Case c : {Case{1.0, 0.5}, Case{2.0, 0.3}}) {
+    std::vector<double> distances;
+    for (const auto& box : boxes) {
+      SlideExperimentOptions options;
+      options.integrator = Integrator::kImplicit;
+      options.step = step;
+      options.initial_speed = c.v0;
+      options.friction = c.mu;
+      const SlideExperimentResult r = RunSlideExperiment(box, options);
+      std::printf(
+          "  v0 %.1f m/s, mu %.1f, %3d nodes, step %.3g ms: distance %.4f m, theory "
+          "%.4f m (%+.2f %%)\n",
+          c.v0, c.mu, box->num_nodes(), 1e3 * step, r.distance, r.theory_distance,
+          100 * (r.distance / r.theory_distance - 1));
+      EXPECT_TRUE(r.stopped);
+      EXPECT_NEAR(r.distance / r.theory_distance, 1.0, 0.05);
+      distances.push_back(r.distance);
+    }
+    const auto [lo, hi] = std::minmax_element(distances.begin(), distances.end());
+    EXPECT_LE(*hi / *lo - 1.0, 0.03);
+  }
 }
 
 // (d) As the explicit Steps test: an absurd push is rejected and the state restored bit for bit.

@@ -184,7 +184,7 @@ TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOut) {
 }
 
 // The implicit integrator recovers without a burst, but not yet to the pressed force: the box
-// teleported in ends at 11.1 N, pressed slowly at 6.6 N (nu 0.45; README "Penetration").
+// teleported in ends at 11.3 N, pressed slowly at 6.6 N (nu 0.45; docs/physics.md §7.2).
 TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOutImplicit) {
   const Recovery r = RecoverFromBox(0.45, 0.004, Integrator::kImplicit);
   ExpectRecovered(r);

@@ -266,7 +266,8 @@ class World {
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
   /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with
-  /// (M + (h^2/2 + h beta) K) dv = h F by masked conjugate gradient; a kinematic node gets the
+  /// (M + (h^2/2 + h beta) K) dv = h F - (h^2/2) K v (the elastic force at the substep's end
+  /// position, docs/physics.md §7.1) by masked conjugate gradient; a kinematic node gets the
   /// velocity the forces (with dv) would give it, for DriveKinematicGroups to record the
   /// reaction. Returns the solver's iterations. Precondition: steps 1-2 of this substep done.
   int ImplicitKick(Body* body, double h, double t0);
@@ -284,11 +285,12 @@ class World {
   /// position, detected as CollideWithColliders does. Precondition: colliders at their
   /// mid-substep poses (PlaceCollidersAtMidSubstep).
   std::vector<ContactNormal> DeepestColliderContacts(const Body& body) const;
-  /// Solves (M + c K) dv = h F into body->implicit_dv with the kinematic nodes and the
-  /// contacts in *held held (a held node ends with no normal velocity relative to its
+  /// Solves (M + c K) dv = h F - (h^2/2) K v into body->implicit_dv with the kinematic nodes and
+  /// the contacts in *held held (a held node ends with no normal velocity relative to its
   /// collider), releasing the contacts whose constraint pulls and solving once more if any was.
-  /// *held ends as the contacts held in the last solve, *residual as h F - (M + c K) dv. Returns
-  /// the solver's iterations. Precondition: body->forces and the stiffness linearised.
+  /// *held ends as the contacts held in the last solve, *residual as the right-hand side minus
+  /// (M + c K) dv. Returns the solver's iterations. Precondition: body->forces and the stiffness
+  /// linearised.
   int SolveImplicitKick(Body* body, double h, double t0, double c, std::vector<ContactNormal>* held,
                         Eigen::Matrix3Xd* residual);
   /// With a projection: holds the held contacts' normals in it; without: sets the held part of
