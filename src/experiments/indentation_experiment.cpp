@@ -14,13 +14,15 @@ namespace {
 
 void CheckOptions(const IndentationExperimentOptions& options) {
   const double sum = options.sphere_radius + options.depth + options.speed + options.step +
-                     options.damping_beta + options.start_gap + options.start_depth + options.hold;
+                     options.damping_beta + options.start_gap + options.start_depth + options.hold +
+                     options.friction;
   if (!(options.sphere_radius > 0.0) || !(options.depth > 0.0) || !(options.speed > 0.0) ||
       !(options.step > 0.0) || !(options.damping_beta >= 0.0) || !(options.start_gap >= 0.0) ||
-      !(options.start_depth >= 0.0) || !(options.hold > 0.0) || !std::isfinite(sum)) {
+      !(options.start_depth >= 0.0) || !(options.hold > 0.0) || !(options.friction >= 0.0) ||
+      !std::isfinite(sum)) {
     throw std::invalid_argument(
         "indentation: sphere radius, depth, speed, step and hold must be finite and > 0, "
-        "damping, start gap and start depth finite and >= 0");
+        "damping, friction, start gap and start depth finite and >= 0");
   }
   if (options.samples < 1) throw std::invalid_argument("indentation: samples must be >= 1");
 }
@@ -157,6 +159,7 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   const int sphere = world.AddCollider(
       SphereIndenter(*model, world.border(body), options.sphere_radius,
                      held ? -options.start_depth : options.start_gap, held ? 0.0 : options.speed));
+  world.SetPairFriction(body, sphere, options.friction);
   IndentationExperimentResult result;
   if (held) {
     Hold(&world, body, sphere, options, &result);

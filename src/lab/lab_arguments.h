@@ -63,6 +63,7 @@ struct ContactArguments {
   double seconds = 0.5;         ///< realtime: simulated time, s
   double depth = 0.0;           ///< indent: indentation past first contact, m
   double speed = 0.005;         ///< indent: the sphere's speed, m/s
+  double friction = 0.5;        ///< indent: Coulomb coefficient between sphere and block
   /// indent: > 0, also start the sphere this far inside the block and hold it (m)
   double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)

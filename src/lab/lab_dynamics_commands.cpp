@@ -131,6 +131,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.depth = contact.depth;
   options.speed = contact.speed;
   options.damping_beta = contact.damping;
+  options.friction = contact.friction;
   options.dispersion = Dispersion(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
   options.spring_precision = PrecisionNamed(contact.precision);
@@ -158,7 +159,8 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
   out << "integrator       " << contact.integrator << ", step " << 1e3 * options.step << " ms\n"
       << "speed            " << contact.speed << " m/s, depth " << contact.depth
-      << " m past first contact (at " << result.contact_time << " s)\n\n"
+      << " m past first contact (at " << result.contact_time << " s), friction " << contact.friction
+      << "\n\n"
       << "  depth [mm]   force [N]   Hertz [N]\n"
       << std::fixed;
   for (const core::IndentationSample& row : result.profile) {

@@ -113,6 +113,12 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
       ->capture_default_str()
       ->check(Finite(false));
   indent
+      ->add_option("--friction", contact.friction,
+                   "Coulomb coefficient between the sphere and the block (0: frictionless, as "
+                   "Hertz's contact)")
+      ->capture_default_str()
+      ->check(Finite(true));
+  indent
       ->add_option("--start-depth", contact.start_depth,
                    "also start the sphere this far past first contact, inside the block, and "
                    "hold it there 0.2 s: penetration recovery (m)")

@@ -279,6 +279,41 @@ TEST(ImplicitIntegrator, IndentationForceMatchesTheExplicitIntegrator) {
   EXPECT_NEAR(implicit_run.profile.back().force, expected, 0.05 * expected);
 }
 
+// At nu 0.49 the block at 1 cm (500 nodes) pressed by a frictionless sphere: the implicit
+// force within 5 % of the explicit one at every depth from 1 mm (measured within 1.1 %). With
+// the default friction 0.5 the two differ by 8-10 % there (docs/physics.md §7.1): the friction
+// of a few nodes under a curved surface, which the explicit substeps hold and the implicit holds
+// let slide, not the integrator.
+TEST(ImplicitIntegrator, FrictionlessIndentationAtNu049MatchesTheExplicitIntegrator) {
+  const auto model = Block(Eigen::Vector3d(0.1, 0.1, 0.05), 0.01, 0.49);
+  IndentationExperimentOptions options;
+  options.depth = 0.005;
+  options.samples = 10;
+  options.friction = 0.0;
+  const IndentationExperimentResult explicit_run = RunIndentationExperiment(model, options);
+  options.integrator = Integrator::kImplicit;
+  const IndentationExperimentResult implicit_run = RunIndentationExperiment(model, options);
+  ASSERT_EQ(implicit_run.profile.size(), explicit_run.profile.size());
+  double worst = 0.0;
+  int compared = 0;
+  for (std::size_t row = 0; row < explicit_run.profile.size(); ++row) {
+    const IndentationSample& e = explicit_run.profile[row];
+    const IndentationSample& i = implicit_run.profile[row];
+    if (e.depth < 1e-3) continue;
+    ASSERT_NEAR(i.depth, e.depth, 1e-6);
+    ASSERT_GT(e.force, 0.0);
+    worst = std::max(worst, std::abs(i.force / e.force - 1.0));
+    ++compared;
+  }
+  std::printf(
+      "  nu 0.49, frictionless, %d rows from 1 mm: implicit within %.2f %% of explicit "
+      "(%.3f / %.3f N at %.2f mm)\n",
+      compared, 100 * worst, implicit_run.profile.back().force, explicit_run.profile.back().force,
+      1e3 * explicit_run.profile.back().depth);
+  EXPECT_GE(compared, 5);
+  EXPECT_LT(worst, 0.05);
+}
+
 TEST(ImplicitIntegrator, AbsurdForceIsRejectedAndTheStateKept) {
   World world(ImplicitOptions(1e-3, 9.81));
   const int body = world.AddBody("block", Block(Eigen::Vector3d(0.04, 0.04, 0.02), 0.01, 0.3));

@@ -24,6 +24,9 @@ struct IndentationExperimentOptions {
   double speed = 0.005;         ///< V (m/s), finite, > 0, downwards
   double step = 1e-3;           ///< s, finite, > 0, the caller's step (substeps: see integrator)
   double damping_beta = 1e-4;   ///< s, finite, >= 0: spring dampers c = beta k
+  /// Coulomb coefficient between the sphere and the body, finite, >= 0 (World::SetPairFriction).
+  /// Hertz's contact is frictionless; 0.5 is the package's default surface (BodyOptions).
+  double friction = 0.5;
   DispersionPasses dispersion = DispersionPasses::kTwoPass;
   /// Rows of the profile over the depth, >= 1: each row covers about D / samples of depth.
   int samples = 50;
