@@ -280,7 +280,7 @@ TEST(ImplicitIntegrator, IndentationForceMatchesTheExplicitIntegrator) {
 }
 
 // At nu 0.49 the block at 1 cm (500 nodes) pressed by a frictionless sphere: the implicit
-// force within 5 % of the explicit one at every depth from 1 mm (measured within 1.1 %). With
+// force within 5 % of the explicit one at every depth from 1 mm (measured within 0.9 %). With
 // the default friction 0.5 the two differ by 8-10 % there (docs/physics.md §7.1): the friction
 // of a few nodes under a curved surface, which the explicit substeps hold and the implicit holds
 // let slide, not the integrator.
