@@ -19,19 +19,10 @@
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/model/model_builder.h"
+#include "sliding_checks.h"
 
 namespace msm_sim::core {
 namespace {
-
-// Element-corner box 2 x 1 x 1 m of (2n - 1) x n x n nodes and total mass `mass`.
-std::shared_ptr<const Model> SlidingBox(int n, double mass) {
-  CubicLatticeOptions options;
-  options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 1.0 / (n - 1);
-  options.construction = CubicConstruction::kElementCorner;
-  return std::make_shared<Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, mass / 2.0), options));
-}
 
 // Thesis 6.4: boxes of 3 x 2 x 2, 5 x 3 x 3 and 9 x 5 x 5 nodes of equal mass, and a body of
 // another mass and shape (a squat anti-aliased cylinder of 3 kg standing on its base; a ball
@@ -45,30 +36,7 @@ TEST(Sliding, StoppingDistanceIsIndependentOfResolutionShapeAndMass) {
                                cylinder_mesh, cylinder_lattice));
   const std::vector<std::shared_ptr<const Model>> bodies = {SlidingBox(2, 1.0), SlidingBox(3, 1.0),
                                                             SlidingBox(5, 1.0), cylinder};
-  struct Case {
-    double v0, mu;
-  };
-  for (const Case c : {Case{1.0, 0.5}, Case{2.0, 0.3}}) {
-    std::vector<double> distances;
-    for (const auto& body : bodies) {
-      SlideExperimentOptions options;
-      options.initial_speed = c.v0;
-      options.friction = c.mu;
-      const SlideExperimentResult r = RunSlideExperiment(body, options);
-      EXPECT_TRUE(r.stopped);
-      std::printf(
-          "  v0 %.1f m/s, mu %.1f: %5d nodes, %6.3f kg: distance %.4f m, theory %.4f m "
-          "(%+.2f %%)\n",
-          c.v0, c.mu, body->num_nodes(), body->masses().sum(), r.distance, r.theory_distance,
-          100 * (r.distance / r.theory_distance - 1));
-      EXPECT_NEAR(r.distance / r.theory_distance, 1.0, 0.05);
-      distances.push_back(r.distance);
-    }
-    // The three boxes within 3 % of each other.
-    const double lo = std::min({distances[0], distances[1], distances[2]});
-    const double hi = std::max({distances[0], distances[1], distances[2]});
-    EXPECT_LE(hi / lo - 1.0, 0.03);
-  }
+  ExpectCoulombStoppingDistances(bodies, SlideExperimentOptions{}, 3);  // the three boxes
 }
 
 std::shared_ptr<const Model> Ball(double radius, double spacing, const Material& material) {

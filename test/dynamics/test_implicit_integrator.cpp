@@ -16,6 +16,7 @@
 #include "msm_sim/mechanics/dof_constraints.h"
 #include "msm_sim/mechanics/static_solver.h"
 #include "msm_sim/model/model_builder.h"
+#include "sliding_checks.h"
 
 namespace msm_sim::core {
 namespace {
@@ -222,40 +223,12 @@ TEST(ImplicitIntegrator, SqueezedBlockEnergyIsBoundedAndDampersDissipateIt) {
 // each other, for the two (v0, mu) pairs of the explicit test; every box takes the same step,
 // five times the finest box's explicit stable step.
 TEST(ImplicitIntegrator, SlidingBoxesStopAfterTheCoulombDistanceAtEveryResolution) {
-  std::vector<std::shared_ptr<const Model>> boxes;
-  for (const int n : {2, 3, 5}) {
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-    lattice.spacing = 1.0 / (n - 1);
-    lattice.construction = CubicConstruction::kElementCorner;
-    boxes.push_back(std::make_shared<Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 0.5), lattice)));
-  }
-  const double step = 5.0 * ExplicitStableStep(boxes.back(), 0.0);
-  struct Case {
-    double v0, mu;
-  };
-  for (const Case c : {Case{1.0, 0.5}, Case{2.0, 0.3}}) {
-    std::vector<double> distances;
-    for (const auto& box : boxes) {
-      SlideExperimentOptions options;
-      options.integrator = Integrator::kImplicit;
-      options.step = step;
-      options.initial_speed = c.v0;
-      options.friction = c.mu;
-      const SlideExperimentResult r = RunSlideExperiment(box, options);
-      std::printf(
-          "  v0 %.1f m/s, mu %.1f, %3d nodes, step %.3g ms: distance %.4f m, theory "
-          "%.4f m (%+.2f %%)\n",
-          c.v0, c.mu, box->num_nodes(), 1e3 * step, r.distance, r.theory_distance,
-          100 * (r.distance / r.theory_distance - 1));
-      EXPECT_TRUE(r.stopped);
-      EXPECT_NEAR(r.distance / r.theory_distance, 1.0, 0.05);
-      distances.push_back(r.distance);
-    }
-    const auto [lo, hi] = std::minmax_element(distances.begin(), distances.end());
-    EXPECT_LE(*hi / *lo - 1.0, 0.03);
-  }
+  const std::vector<std::shared_ptr<const Model>> boxes = {SlidingBox(2, 1.0), SlidingBox(3, 1.0),
+                                                           SlidingBox(5, 1.0)};
+  SlideExperimentOptions options;
+  options.integrator = Integrator::kImplicit;
+  options.step = 5.0 * ExplicitStableStep(boxes.back(), 0.0);
+  ExpectCoulombStoppingDistances(boxes, options, boxes.size());
 }
 
 // (d) As the explicit Steps test: an absurd push is rejected and the state restored bit for bit.
