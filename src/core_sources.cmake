@@ -20,6 +20,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/build/body_recipe.cpp
   ${MSM_SIM_DIR}/src/build/body_shape.cpp
   ${MSM_SIM_DIR}/src/build/cubic_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/build/free_face_bending.cpp
   ${MSM_SIM_DIR}/src/build/lattice_geometry.cpp
   ${MSM_SIM_DIR}/src/build/mesh_lattice_builder.cpp
   ${MSM_SIM_DIR}/src/build/node_centred_lattice.cpp

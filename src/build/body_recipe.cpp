@@ -41,6 +41,12 @@ void Validate(const BodyRecipe& recipe) {
         "anchored planes (face clamps) need a node-centred cubic lattice in a box, not rotated "
         "through the anti-aliased solid");
   }
+  if (recipe.free_face_bending && (recipe.lattice != LatticeKind::kCubic ||
+                                   recipe.construction != CubicConstruction::kNodeCentred)) {
+    throw std::invalid_argument(
+        "the free faces' bending correction is for node-centred cubic lattices (the "
+        "element-corner, Baudet and random lattices have their own surface)");
+  }
   if (recipe.target_nodes < 0) throw std::invalid_argument("target_nodes must be >= 0");
   if (!(recipe.target_volume >= 0.0)) throw std::invalid_argument("target_volume must be >= 0");
   if (recipe.target_nodes > kMaxBodyNodes) {
@@ -98,6 +104,7 @@ Model BuildInSolid(const BodyRecipe& recipe, double spacing) {
   MeshCubicLatticeOptions options;
   options.spacing = spacing;
   options.antialias = recipe.antialias;
+  options.free_face_bending = recipe.free_face_bending;
   options.spring_law = recipe.spring_law;
   options.rotation_axis = recipe.rotation_axis;
   options.rotation_angle = recipe.rotation_angle;
@@ -113,6 +120,7 @@ Model BuildCubicInBox(const BodyRecipe& recipe, double spacing) {
   options.rotation_axis = recipe.rotation_axis;
   options.rotation_angle = recipe.rotation_angle;
   options.anchored_planes = recipe.anchored_planes;
+  options.free_face_bending = recipe.free_face_bending;
   return BuildCubicLattice(recipe.material, options);
 }
 

@@ -48,7 +48,7 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
   }
   if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
   return BuildNodeCentredModel(material, cells, options.compensate_surface, options.spring_law,
-                               options.anchored_planes);
+                               options.anchored_planes, options.free_face_bending);
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {

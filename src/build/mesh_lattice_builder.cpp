@@ -174,7 +174,8 @@ Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options) {
   Validate(solid, options);
   return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options),
-                               options.compensate_surface, options.spring_law);
+                               options.compensate_surface, options.spring_law, {},
+                               options.free_face_bending);
 }
 
 }  // namespace msm_sim::core

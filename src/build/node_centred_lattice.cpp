@@ -2,9 +2,11 @@
 
 #include <cmath>
 #include <map>
+#include <optional>
 #include <tuple>
 #include <vector>
 
+#include "build/free_face_bending.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 
@@ -87,7 +89,8 @@ bool IsAnchored(const OccupiedCells& cells, const LatticeIndex& index,
 // not material, so node i's star, inflow and dispersed tension match a bulk node's.
 void AddFaceAnchors(const OccupiedCells& cells, const LatticeIndex& index,
                     const std::vector<AnchoredPlane>& anchored, double kappa, bool compensate,
-                    double anchor_mass, ModelBuilder* builder, EndShares* shares) {
+                    double anchor_mass, const std::optional<FreeFaceBending>& bending,
+                    ModelBuilder* builder, EndShares* shares, std::vector<double>* factors) {
   const double a = cells.frame.unit;
   std::map<std::tuple<long, long, long>, NodeIndex> anchor_at;  // by position in 1e-6 a
   const int n = static_cast<int>(cells.coords.size());
@@ -112,9 +115,13 @@ void AddFaceAnchors(const OccupiedCells& cells, const LatticeIndex& index,
         const bool mirrored = compensate && index.Find(cells.coords[node] - d) < 0 &&
                               !IsAnchored(cells, index, anchored, node, -d);
         const double half = 0.5 * kappa * cells.fractions[node] * (mirrored ? 2.0 : 1.0);
-        builder->AddSpring(node, found->second, half / (t * t));
+        // The anchor spring stands for the missing spring along d, so it takes that spring's
+        // bending factor: an outer layer's stiffer springs must end on equally stiff anchors.
+        const double factor = bending ? bending->Factor(cells.coords[node], d) : 1.0;
+        builder->AddSpring(node, found->second, factor * half / (t * t));
         shares->a.push_back(half / (t * t));
         shares->b.push_back(0.0);
+        factors->push_back(factor);
       }
     }
   }
@@ -152,20 +159,48 @@ void MirrorMissingHalfSprings(const OccupiedCells& cells, const LatticeIndex& in
 // k dL is shared by the ends in proportion: weight v = 2 share / (share_a + share_b), so each
 // end counts its own share (and receives that share of the dispersion, w = v k L0^2). With
 // full cells and no mirrored half-springs every v is 1: the eMSM paper's algorithm. An anchor
-// spring's anchor end has share 0: v = 0 there, 2 at the node.
-void SetDispersionWeightsFromShares(const EndShares& shares, ModelBuilder* builder) {
+// spring's anchor end has share 0: v = 0 there, 2 at the node. A spring whose stiffness was
+// scaled by the free faces' bending factor f (shares unscaled) gets v / f: the dispersion, which
+// only sees v k, stays exactly what it was.
+void SetDispersionWeightsFromShares(const EndShares& shares, const std::vector<double>& factors,
+                                    ModelBuilder* builder) {
   for (SpringIndex s = 0; s < builder->num_springs(); ++s) {
     const double total = shares.a[s] + shares.b[s];
-    builder->SetDispersionWeight(s, builder->spring_node_a(s), 2.0 * shares.a[s] / total);
-    builder->SetDispersionWeight(s, builder->spring_node_b(s), 2.0 * shares.b[s] / total);
+    const double v = 2.0 / (total * factors[s]);
+    builder->SetDispersionWeight(s, builder->spring_node_a(s), v * shares.a[s]);
+    builder->SetDispersionWeight(s, builder->spring_node_b(s), v * shares.b[s]);
   }
+}
+
+// The free faces' bending factors of the lattice springs (docs/physics.md §2.1), applied to their
+// stiffness (mirrored half-springs included); one factor per spring so far.
+std::vector<double> ScaleForFreeFaceBending(const OccupiedCells& cells,
+                                            const std::optional<FreeFaceBending>& bending,
+                                            ModelBuilder* builder) {
+  std::vector<double> factors(builder->num_springs(), 1.0);
+  if (!bending) return factors;
+  for (SpringIndex s = 0; s < builder->num_springs(); ++s) {
+    const Eigen::Vector3i& from = cells.coords[builder->spring_node_a(s)];
+    factors[s] = bending->Factor(from, cells.coords[builder->spring_node_b(s)] - from);
+    builder->AddStiffness(s, (factors[s] - 1.0) * builder->spring_stiffness(s));
+  }
+  return factors;
+}
+
+// The correction applies to cells that fill a box completely (docs/physics.md §2.1).
+std::optional<FreeFaceBending> FreeFaceBendingOf(const OccupiedCells& cells, double poisson) {
+  // 1e-6: the clipping of a box mesh's cells reads whole cells as 1 - 4e-9.
+  for (const double chi : cells.fractions) {
+    if (chi < 1.0 - 1e-6) return std::nullopt;
+  }
+  return FreeFaceBending::ForBox(cells.coords, poisson);
 }
 
 }  // namespace
 
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
                             bool compensate_surface, SpringLaw spring_law,
-                            const std::vector<AnchoredPlane>& anchored) {
+                            const std::vector<AnchoredPlane>& anchored, bool free_face_bending) {
   const double a = cells.frame.unit;
   const double kappa = material.shear_modulus() * a;
   const double cell_mass = material.density() * a * a * a;
@@ -180,9 +215,13 @@ Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells
   if (compensate_surface) {
     MirrorMissingHalfSprings(cells, index, kappa, spring_of, anchored, &builder, &shares);
   }
-  AddFaceAnchors(cells, index, anchored, kappa, compensate_surface, 1e-6 * cell_mass, &builder,
-                 &shares);
-  SetDispersionWeightsFromShares(shares, &builder);
+  const std::optional<FreeFaceBending> bending =
+      free_face_bending && compensate_surface ? FreeFaceBendingOf(cells, material.poisson_ratio())
+                                              : std::nullopt;
+  std::vector<double> factors = ScaleForFreeFaceBending(cells, bending, &builder);
+  AddFaceAnchors(cells, index, anchored, kappa, compensate_surface, 1e-6 * cell_mass, bending,
+                 &builder, &shares, &factors);
+  SetDispersionWeightsFromShares(shares, factors, &builder);
   return builder.Build(occupied * a * a * a, a);
 }
 

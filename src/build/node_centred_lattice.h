@@ -31,10 +31,14 @@ struct OccupiedCells {
 /// cells mirrored onto the opposite spring of the same node (see BuildCubicLattice). The model
 /// volume is a^3 sum chi. A missing neighbour across one of `anchored` (positions in the frame's
 /// coordinates) gets a face anchor instead of the mirrored half-spring (AnchoredPlane,
-/// docs/physics.md §2.1 "Face anchors"), whether or not compensate_surface is set.
+/// docs/physics.md §2.1 "Face anchors"), whether or not compensate_surface is set. With
+/// free_face_bending, cells that fill a box (all full) get FreeFaceBending's stiffness factors on
+/// their springs and face anchors, and dispersion weights divided by the same factors so that
+/// the eMSM dispersion (which weighs v k) is unchanged.
 /// Precondition: coords non-empty and unique, fractions in (0, 1], anchored normals non-zero.
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
                             bool compensate_surface, SpringLaw spring_law,
-                            const std::vector<AnchoredPlane>& anchored = {});
+                            const std::vector<AnchoredPlane>& anchored = {},
+                            bool free_face_bending = false);
 
 }  // namespace msm_sim::core::lattice

@@ -108,6 +108,9 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
       ->check(CLI::IsMember({"uniform", "inverse-square"}));
   command->add_flag("--self-calibrate", model->self_calibrate,
                     "random lattice: correct k and q by measuring a representative block");
+  command->add_flag("--free-face-bending", model->free_face_bending,
+                    "node-centred cubic box: stiffen the outer layers' springs (and soften the "
+                    "interior's) to restore the free faces' bending stiffness");
   command->add_option("--spring", model->spring, "spring tension law: linear | nonlinear")
       ->capture_default_str()
       ->check(CLI::IsMember({"linear", "nonlinear"}));

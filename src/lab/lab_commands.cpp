@@ -229,6 +229,7 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
               {"poisson_target", arguments.model.poisson},
               {"force", arguments.force},
               {"ends", faces ? "faces" : "layers"},
+              {"free_face_bending", arguments.model.free_face_bending},
               {"tip_deflection", result.tip_deflection},
               {"end_face_deflection", result.end_face_deflection},
               {"theory_tip_deflection", result.theory_tip_deflection},

@@ -52,6 +52,7 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
   recipe.construction = arguments.construction == "corner" ? core::CubicConstruction::kElementCorner
                                                            : core::CubicConstruction::kNodeCentred;
   recipe.antialias = arguments.antialias;
+  recipe.free_face_bending = arguments.free_face_bending;
   recipe.seed = arguments.seed;
   recipe.random_min_distance = arguments.min_dist;
   recipe.random_max_distance = arguments.max_dist;

@@ -32,6 +32,7 @@ core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& 
   recipe.target_nodes = config.target_nodes;
   recipe.spring_law = config.spring;
   recipe.antialias = config.antialias;
+  recipe.free_face_bending = config.free_face_bending;
   recipe.seed = config.seed;
   return recipe;
 }

@@ -28,11 +28,14 @@ using param::Text;
 using param::Vector;
 
 // The keys an object and its shape take (README "msm_sim_node").
-const std::set<std::string> kObjectKeys = {
-    "name",         "shape",     "pose",     "model",       "spacing", "target_nodes",
-    "spring",       "antialias", "seed",     "material",    "youngs",  "poisson",
-    "density",      "damping",   "friction", "restitution", "clamps",  "visual_mesh",
-    "visual_scale", "shore_a",   "shore_00"};
+const std::set<std::string> kObjectKeys = {"name",        "shape",        "pose",
+                                           "model",       "spacing",      "target_nodes",
+                                           "spring",      "antialias",    "free_face_bending",
+                                           "seed",        "material",     "youngs",
+                                           "poisson",     "density",      "damping",
+                                           "friction",    "restitution",  "clamps",
+                                           "visual_mesh", "visual_scale", "shore_a",
+                                           "shore_00"};
 const std::set<std::string> kShapeKeys = {"type", "size", "radius", "length", "uri", "scale"};
 // A random model's seed is read as a double: whole numbers above 2^53 are not all representable.
 constexpr double kMaxSeed = 9007199254740992.0;
@@ -217,6 +220,10 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   }
   config.spring = ReadSpringLaw(object, path);
   config.antialias = Flag(object, "antialias", true, path);
+  config.free_face_bending = Flag(object, "free_face_bending", false, path);
+  if (config.free_face_bending && config.model != core::LatticeKind::kCubic) {
+    Fail(path + "/free_face_bending", "applies to cubic models only");
+  }
   config.seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
   ReadMaterial(object, materials, path, &config);
   config.damping = NonNegative(object, "damping", 2e-4, path);

@@ -54,7 +54,8 @@ struct ObjectConfig {
   int target_nodes = 0;  ///< choose the spacing for about this many nodes
   core::SpringLaw spring = core::SpringLaw::kLinear;  ///< YAML: linear | nonlinear
   bool antialias = true;
-  std::uint64_t seed = 1;                             ///< random models
+  bool free_face_bending = false;  ///< docs/physics.md §2.1; boxes of whole cells only
+  std::uint64_t seed = 1;          ///< random models
   double youngs = 0.0, poisson = 0.0, density = 0.0;  ///< Pa, -, kg/m^3
   double damping = 0.0;                               ///< s, spring dampers c = damping k
   double friction = 0.5;                              ///< Coulomb coefficient of the surface

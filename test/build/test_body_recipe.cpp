@@ -151,6 +151,13 @@ TEST(BodyRecipe, CubicBoxIsBuildCubicLattice) {
   const Model model = BuildModel(plain);
   EXPECT_EQ(model.num_nodes(), 6 * 4 * 3);
   ExpectSameModel(model, BuildCubicLattice(kMaterial, options));
+
+  // The free faces' bending correction is passed on (and changes the model: 6 and 4 cells).
+  plain.free_face_bending = true;
+  options.free_face_bending = true;
+  const Model corrected = BuildModel(plain);
+  ExpectSameModel(corrected, BuildCubicLattice(kMaterial, options));
+  EXPECT_NE(corrected.spring_stiffness(), model.spring_stiffness());
 }
 
 TEST(BodyRecipe, RandomBoxIsBuildRandomLattice) {
@@ -253,6 +260,19 @@ TEST(BodyRecipe, CubicSolidIsBuildCubicLatticeInSolid) {
   recipe.antialias = true;
   options.antialias = true;
   ExpectSameModel(BuildModel(recipe), BuildCubicLatticeInSolid(kMaterial, *recipe.solid, options));
+
+  // A box solid aligned with its lattice fills whole cells (6 x 4 x 3 at 0.1 m): the free faces'
+  // bending correction applies there as in the box builder.
+  recipe.rotation_angle = 0.0;
+  recipe.spacing = 0.1;
+  options.rotation_angle = 0.0;
+  options.spacing = 0.1;
+  const Model plain = BuildModel(recipe);
+  recipe.free_face_bending = true;
+  options.free_face_bending = true;
+  const Model corrected = BuildModel(recipe);
+  ExpectSameModel(corrected, BuildCubicLatticeInSolid(kMaterial, *recipe.solid, options));
+  EXPECT_NE(corrected.spring_stiffness(), plain.spring_stiffness());
 }
 
 TEST(BodyRecipe, RandomSolidIsBuildRandomLatticeInSolid) {
@@ -337,6 +357,12 @@ TEST(BodyRecipe, RejectsCombinationsNoBuilderTakes) {
   centred_solid.solid = BoxSolid(kBox);
   centred_solid.centre_box = true;
   ExpectInvalid(centred_solid, "centre_box");
+
+  BodyRecipe random_bending(kMaterial);
+  random_bending.box_size = kBox;
+  random_bending.lattice = LatticeKind::kRandom;
+  random_bending.free_face_bending = true;
+  ExpectInvalid(random_bending, "bending correction is for node-centred cubic lattices");
 
   BodyRecipe negative_count(kMaterial);
   negative_count.box_size = kBox;

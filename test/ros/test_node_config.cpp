@@ -79,6 +79,32 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   scene.deleteParam("");
 }
 
+// objects[]/free_face_bending (docs/physics.md §2.1): off unless asked for.
+TEST(ObjectConfig, FreeFaceBendingIsRead) {
+  ros::NodeHandle scene("/bending_scene");
+  scene.deleteParam("");
+  XmlRpc::XmlRpcValue object;
+  object["name"] = std::string("beam");
+  object["shape"]["type"] = std::string("box");
+  XmlRpc::XmlRpcValue size;
+  size[0] = 0.2;
+  size[1] = 0.05;
+  size[2] = 0.05;
+  object["shape"]["size"] = size;
+  object["spacing"] = 0.0125;
+  object["youngs"] = 1.2e5;
+  object["poisson"] = 0.4;
+  object["density"] = 1000.0;
+  XmlRpc::XmlRpcValue objects;
+  objects[0] = object;
+  scene.setParam("objects", objects);
+  EXPECT_FALSE(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].free_face_bending);
+  objects[0]["free_face_bending"] = true;
+  scene.setParam("objects", objects);
+  EXPECT_TRUE(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].free_face_bending);
+  scene.deleteParam("");
+}
+
 // shore_a or shore_00 instead of youngs: E from the core's conversion; outside its range or
 // beside youngs, one ConfigError naming the parameter, the object and what to give instead.
 TEST(ObjectConfig, ShoreHardnessGivesTheModulus) {

@@ -91,6 +91,10 @@ struct BodyRecipe {
   /// planes held by face anchors (AnchoredPlane, AnchorNodes), in the box's frame [0, box_size]
   /// (centre_box then moves the anchors with the body). Default none; refused for other lattices.
   std::vector<AnchoredPlane> anchored_planes;
+  /// Node-centred cubic: the free faces' bending correction (CubicLatticeOptions::
+  /// free_face_bending); it applies when the lattice's cells fill a box (an unrotated box, or a
+  /// box-shaped solid aligned with the lattice). Default off.
+  bool free_face_bending = false;
   /// Random: the random sequential addition's seed; same seed, same model. Default 1.
   std::uint64_t seed = 1;
   /// Random: minL and maxL as multiples of l, 0 < min < max. Defaults 0.8 and 1.9 (what both

@@ -26,6 +26,9 @@ struct MeshCubicLatticeOptions {
   double min_fraction = 0.1;
   /// Mirror the half-springs of missing neighbours (see BuildCubicLattice).
   bool compensate_surface = true;
+  /// The free faces' bending correction (CubicLatticeOptions::free_face_bending); it applies only
+  /// when the kept cells fill a box of whole cells (a box mesh aligned with the lattice).
+  bool free_face_bending = false;
   SpringLaw spring_law = SpringLaw::kLinear;
   int max_nodes = 2'000'000;
 };

@@ -29,6 +29,7 @@ class ModelBuilder {
   /// (0: that end neither collects nor receives dispersion, as at a fixed face anchor).
   void SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight);
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
+  double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
   /// Adds a Baudet correction element (see Model::correction_edges): 4 x-, 4 y- and 4 z-edge
   /// springs and the coefficient c (N/m). Precondition: the springs exist.
