@@ -17,6 +17,21 @@ using msm_sim_test::g_expected_errors;
 using msm_sim_test::NodeOutputs;
 using msm_sim_test::WaitFor;
 
+// A valid box object: 10 cm cube at 2.5 cm, E = 100 kPa, nu = 0.3, rho = 1000.
+XmlRpc::XmlRpcValue BoxObject() {
+  XmlRpc::XmlRpcValue object;
+  object["name"] = std::string("block");
+  object["shape"]["type"] = std::string("box");
+  XmlRpc::XmlRpcValue size;
+  for (int i = 0; i < 3; ++i) size[i] = 0.1;
+  object["shape"]["size"] = size;
+  object["spacing"] = 0.025;
+  object["youngs"] = 1e5;
+  object["poisson"] = 0.3;
+  object["density"] = 1000.0;
+  return object;
+}
+
 // A bad configuration is one ConfigError naming the parameter (the node prints it as its one
 // ROS_FATAL line and exits 1).
 void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
@@ -24,18 +39,7 @@ void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
   ros::NodeHandle scene("/bad_scene");
   scene.deleteParam("");
   // A valid scene, then one change.
-  XmlRpc::XmlRpcValue object;
-  object["name"] = std::string("block");
-  object["shape"]["type"] = std::string("box");
-  XmlRpc::XmlRpcValue size;
-  size[0] = 0.1;
-  size[1] = 0.1;
-  size[2] = 0.1;
-  object["shape"]["size"] = size;
-  object["spacing"] = 0.025;
-  object["youngs"] = 1e5;
-  object["poisson"] = 0.3;
-  object["density"] = 1000.0;
+  XmlRpc::XmlRpcValue object = BoxObject();
   if (yaml_key.rfind("world/", 0) != 0) object[yaml_key] = value;
   XmlRpc::XmlRpcValue objects;
   objects[0] = object;
@@ -53,18 +57,8 @@ void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
 TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   ros::NodeHandle scene("/integrator_scene");
   scene.deleteParam("");
-  XmlRpc::XmlRpcValue object;
-  object["name"] = std::string("block");
-  object["shape"]["type"] = std::string("box");
-  XmlRpc::XmlRpcValue size;
-  for (int i = 0; i < 3; ++i) size[i] = 0.1;
-  object["shape"]["size"] = size;
-  object["spacing"] = 0.025;
-  object["youngs"] = 1e5;
-  object["poisson"] = 0.3;
-  object["density"] = 1000.0;
   XmlRpc::XmlRpcValue objects;
-  objects[0] = object;
+  objects[0] = BoxObject();
   scene.setParam("objects", objects);
   const auto defaults = msm_sim::ros_interface::LoadSimulationConfig(scene);
   EXPECT_EQ(defaults.world.integrator, msm_sim::core::Integrator::kExplicit);
@@ -83,20 +77,8 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
 TEST(ObjectConfig, FreeFaceBendingIsRead) {
   ros::NodeHandle scene("/bending_scene");
   scene.deleteParam("");
-  XmlRpc::XmlRpcValue object;
-  object["name"] = std::string("beam");
-  object["shape"]["type"] = std::string("box");
-  XmlRpc::XmlRpcValue size;
-  size[0] = 0.2;
-  size[1] = 0.05;
-  size[2] = 0.05;
-  object["shape"]["size"] = size;
-  object["spacing"] = 0.0125;
-  object["youngs"] = 1.2e5;
-  object["poisson"] = 0.4;
-  object["density"] = 1000.0;
   XmlRpc::XmlRpcValue objects;
-  objects[0] = object;
+  objects[0] = BoxObject();
   scene.setParam("objects", objects);
   EXPECT_FALSE(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].free_face_bending);
   objects[0]["free_face_bending"] = true;
