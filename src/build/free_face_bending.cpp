@@ -4,12 +4,14 @@
 
 #include <Eigen/Dense>
 
-namespace msm_sim::core::lattice {
+namespace msm_sim::core {
 
-double FreeFaceBendingDeficit(int n) {
-  const double n2 = static_cast<double>(n) * n;
+double FreeFaceBendingDeficit(int cells_across) {
+  const double n = cells_across, n2 = n * n;
   return (2.0 / 3.0) / n2 + (1.0 / 3.0) * (10.0 / n2 - 12.0 / (n2 * n));
 }
+
+namespace lattice {
 
 double InLayerModulusSensitivity(double poisson) {
   // In units of mu: the eMSM stiffness tensor's normal block, the direct springs' (C_1111 = 3,
@@ -74,4 +76,5 @@ double FreeFaceBending::Factor(const Eigen::Vector3i& from, const Eigen::Vector3
   return factor;
 }
 
-}  // namespace msm_sim::core::lattice
+}  // namespace lattice
+}  // namespace msm_sim::core

@@ -8,11 +8,9 @@
 
 #include <Eigen/Core>
 
-namespace msm_sim::core::lattice {
+#include "msm_sim/build/cubic_lattice_builder.h"
 
-/// Relative bending stiffness that a node-centred A+B lattice n cells thick misses (midpoint
-/// sums of its springs): (2/3)/n^2 + (1/3)(10/n^2 - 12/n^3). Precondition: n >= 1.
-double FreeFaceBendingDeficit(int n);
+namespace msm_sim::core::lattice {
 
 /// How much a layer's uniaxial-stress modulus E_layer / E rises per unit alpha when its in-layer
 /// springs (A and B springs lying in the layer) are scaled by 1 + alpha: the layer's stiffness

@@ -1,5 +1,6 @@
 #include "lab_commands.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
@@ -171,6 +172,25 @@ bool DeflectionAtFaces(const LabArguments& arguments) {
   return model.model == "cubic" && model.construction == "node" && !model.rotate;
 }
 
+// For an unrotated node-centred cubic lattice: whether its free faces' bending stiffness was
+// restored, and if not, how much EI the lattice misses at its cells through the height
+// (docs/physics.md §2.1).
+void PrintFreeFaces(const LabArguments& arguments, std::ostream& out) {
+  const ModelArguments& model = arguments.model;
+  if (model.model != "cubic" || model.construction != "node" || model.rotate) return;
+  const int across = std::max(1, static_cast<int>(std::lround(model.size.z() / model.spacing)));
+  if (model.free_face_bending && across >= 4) {
+    out << "free faces       bending stiffness restored (--free-face-bending)\n";
+    return;
+  }
+  out << std::setprecision(3) << "free faces       not corrected"
+      << (model.free_face_bending ? " (fewer than 4 cells through the height)" : "")
+      << ": EI low by " << 100.0 * core::FreeFaceBendingDeficit(across) << " % at " << across
+      << " cells through the height"
+      << (model.free_face_bending ? "" : " (--free-face-bending restores it)") << "\n"
+      << std::setprecision(5);
+}
+
 // The text report of RunDeflection.
 void PrintDeflection(const LabArguments& arguments, const core::ModelStatistics& stats, bool faces,
                      const core::CantileverExperimentResult& result,
@@ -192,6 +212,7 @@ void PrintDeflection(const LabArguments& arguments, const core::ModelStatistics&
       << "end face         " << result.end_face_deflection << " m (x = L, extrapolated; "
       << 100.0 * (result.end_face_deflection / result.theory_tip_deflection - 1.0)
       << " % from the theory at L)\n";
+  PrintFreeFaces(arguments, out);
   if (reference) PrintReference(*reference, result.end_face_deflection, out);
   out << "solver: " << result.solver.message << "\n"
       << "time: " << seconds << " s\n";

@@ -14,7 +14,6 @@ namespace msm_sim::core {
 namespace {
 
 using lattice::FreeFaceBending;
-using lattice::FreeFaceBendingDeficit;
 using lattice::InLayerModulusSensitivity;
 
 Model Box(double poisson, const Eigen::Vector3i& cells, bool correct, double angle = 0.0) {

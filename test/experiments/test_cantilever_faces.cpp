@@ -23,7 +23,6 @@
 
 #include <gtest/gtest.h>
 
-#include "build/free_face_bending.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/experiments/calculix_reference.h"
 #include "msm_sim/experiments/cantilever_experiment.h"
@@ -145,7 +144,7 @@ TEST_P(CantileverFacesCoarse, WithinThreePercentOfCalculixAtFourAndEightCellsAcr
 TEST_P(CantileverFacesCoarse, WithoutTheCorrectionTheErrorIsTheBendingDeficit) {
   for (const int n : {4, 8}) {
     const Comparison c = CompareWithCalculix({GetParam(), n, false});
-    const double deficit = lattice::FreeFaceBendingDeficit(n);
+    const double deficit = FreeFaceBendingDeficit(n);
     EXPECT_NEAR(c.end_error, 1.0 / (1.0 - deficit) - 1.0, 0.03) << n << " across";
   }
 }

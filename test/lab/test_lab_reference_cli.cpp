@@ -75,6 +75,25 @@ TEST(LabReferenceCli, FreeFaceBendingBringsFourCellsAcrossWithinThreePercent) {
   EXPECT_GT(without["end_face_deflection"].get<double>() / reference, 1.2);
 }
 
+// The table says whether the free faces were corrected, and what the lattice misses if not:
+// D(4) = 18.75 % of EI on the issue's box at 4 cells through the height (printed 18.7 or 18.8).
+TEST(LabReferenceCli, TableSaysWhatTheFreeFacesMiss) {
+  const std::string command(kIssueBox);
+  const std::string plain = command.substr(0, command.find(" --reference"));
+  const LabRun uncorrected = RunLab(plain);
+  const LabRun corrected = RunLab(plain + " --free-face-bending");
+  ASSERT_EQ(uncorrected.exit_code, 0) << uncorrected.err;
+  ASSERT_EQ(corrected.exit_code, 0) << corrected.err;
+  const std::size_t line = uncorrected.out.find("free faces       not corrected: EI low by 18.");
+  ASSERT_NE(line, std::string::npos) << uncorrected.out;
+  EXPECT_EQ(uncorrected.out.find(
+                " % at 4 cells through the height (--free-face-bending restores it)", line),
+            line + std::string("free faces       not corrected: EI low by 18.7").size())
+      << uncorrected.out;
+  EXPECT_NE(corrected.out.find("free faces       bending stiffness restored"), std::string::npos)
+      << corrected.out;
+}
+
 TEST(LabReferenceCli, FreeFaceBendingNeedsANodeCentredCubicLattice) {
   const LabRun run = RunLab(
       "deflection --model cubic --construction corner --size 0.2 0.05 0.05 --spacing 0.0125 "
