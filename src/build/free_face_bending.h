@@ -2,7 +2,6 @@
 // Private to msm_sim's lattice builders: the free faces' bending correction of a node-centred
 // cubic lattice that fills a box (docs/physics.md §2.1 "Free faces in bending").
 
-#include <array>
 #include <optional>
 #include <vector>
 
@@ -21,17 +20,19 @@ namespace msm_sim::core::lattice {
 double InLayerModulusSensitivity(double poisson);
 
 /// Per-spring stiffness factors that restore the bending stiffness of a box's free faces without
-/// changing its response to any homogeneous strain. Along each axis with n >= 4 layers of cells,
+/// changing the box's stiffness tensor. Along each axis with n >= 4 layers of cells,
 /// springs lying in an outer layer (both ends in it) are scaled by 1 + alpha and springs lying in
-/// an interior layer by 1 - 2 alpha / (n - 2): every cross-section keeps its summed stiffness
-/// (hence E and nu of a uniformly strained block), while the outer layers, at the largest lever
-/// arm, gain alpha = deficit(n) n^3 / (12 c S(n)), S(n) = sum over layers of the weights times
-/// (z_k / a)^2, which puts back the deficit. A spring lying in layers of several axes takes the
-/// sum of their increments.
+/// an interior layer by 1 - 2 alpha / (n - 2): every layer keeps its summed stiffness (hence the
+/// block's stiffness tensor and an interior node's balance under any uniform strain; the free
+/// edges move a compression test by a few tenths of a percent), while the outer layers, at the
+/// largest lever arm, gain alpha = deficit(n) n^3 / (12 c S(n)), S(n) = sum over layers of the
+/// weights times (z_k / a)^2, which puts back the deficit. A spring lying in layers of several axes
+/// takes the sum of their increments.
 class FreeFaceBending {
  public:
   /// The correction for `coords` (integer cell coordinates, unique), or none if the cells do not
-  /// fill their bounding box (a mesh, a rotated lattice) or no axis has 4 layers.
+  /// fill their bounding box (a mesh, a rotated lattice), no axis has 4 layers, or a spring in
+  /// the interior layers of two axes would not keep a positive stiffness.
   static std::optional<FreeFaceBending> ForBox(const std::vector<Eigen::Vector3i>& coords,
                                                double poisson);
 

@@ -3,8 +3,10 @@
 // test/experiments/test_cantilever_faces.cpp.
 #include "build/free_face_bending.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 

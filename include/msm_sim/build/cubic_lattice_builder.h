@@ -48,11 +48,12 @@ struct CubicLatticeOptions {
   /// Node-centred only, with compensate_surface: restore the bending stiffness the free faces
   /// miss (docs/physics.md §2.1 "Free faces in bending"): along each axis at least 4 cells
   /// across, the springs lying in the two outer layers are stiffened and those lying in the
-  /// interior layers softened so that every cross-section keeps its summed stiffness. A uniformly
-  /// strained block (E, nu) is unchanged; a cantilever 8 cells across bends within 1.1 % of
-  /// CalculiX instead of 6 % too much. The price is a skin stiffer in its own plane, which
-  /// changes contacts on coarse lattices; hence off by default. Applies to unrotated boxes
-  /// (rotated lattices do not fill a box of cells).
+  /// interior layers softened so that every layer keeps its summed stiffness (the block's
+  /// stiffness tensor is unchanged). A cantilever 8 cells across bends within 1.1 % of CalculiX
+  /// instead of 6 % too much. The price: a skin stiffer in its own plane, which changes contacts
+  /// on coarse lattices, and free edges that move a compression test 10 cells across by 0.2-0.4
+  /// points of E; hence off by default. Applies to unrotated boxes (rotated lattices do not fill
+  /// a box of cells).
   bool free_face_bending = false;
   SpringLaw spring_law = SpringLaw::kLinear;
   /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs
