@@ -7,9 +7,10 @@
 // What holds (docs/physics.md §2.1 "Face anchors" and "Free faces in bending"): the anchors make
 // the first layer a bulk layer. Without the free faces' bending correction the lattice's bending
 // stiffness is low by (2/3)/n^2 + (1/3)(10/n^2 - 12/n^3) (n cells across; its outermost springs
-// sit half a cell inside the free faces), +20..+24 % at 4 across and +6 % at 8. With it (the
-// default) the end face is within 3 % of CalculiX at 4, 8 and 16 across, except nu = 0 at 4
-// across: +3.4 %.
+// sit half a cell inside the free faces), +20..+24 % at 4 across and +6 % at 8. With it
+// (CubicLatticeOptions::free_face_bending, off by default in the library, on here unless a Case
+// says otherwise) the end face is within 3 % of CalculiX at 4, 8 and 16 across, except nu = 0 at
+// 4 across: +3.4 %.
 #include <unistd.h>
 
 #include <algorithm>
