@@ -56,10 +56,8 @@ std::optional<FreeFaceBending> FreeFaceBending::ForBox(const std::vector<Eigen::
   }
   if (out.alpha_.isZero()) return std::nullopt;
   // The softest spring lies in interior layers of two axes.
-  Eigen::Vector3d decrement = Eigen::Vector3d::Zero();
-  for (int axis = 0; axis < 3; ++axis) {
-    if (out.alpha_[axis] > 0.0) decrement[axis] = 2.0 * out.alpha_[axis] / (layers[axis] - 2);
-  }
+  Eigen::Vector3d decrement;
+  for (int axis = 0; axis < 3; ++axis) decrement[axis] = out.InteriorDecrement(axis);
   std::sort(decrement.data(), decrement.data() + 3);
   if (1.0 - decrement[1] - decrement[2] <= 0.0) return std::nullopt;
   return out;
@@ -71,9 +69,13 @@ double FreeFaceBending::Factor(const Eigen::Vector3i& from, const Eigen::Vector3
     if (alpha_[axis] == 0.0 || d[axis] != 0) continue;  // not lying in a layer of this axis
     const int layer = from[axis] - lo_[axis];
     const bool outer = layer == 0 || layer == layers_[axis] - 1;
-    factor += alpha_[axis] * (outer ? 1.0 : -2.0 / (layers_[axis] - 2));
+    factor += outer ? alpha_[axis] : -InteriorDecrement(axis);
   }
   return factor;
+}
+
+double FreeFaceBending::InteriorDecrement(int axis) const {
+  return alpha_[axis] == 0.0 ? 0.0 : 2.0 * alpha_[axis] / (layers_[axis] - 2);
 }
 
 }  // namespace lattice

@@ -44,6 +44,10 @@ class FreeFaceBending {
   const Eigen::Vector3d& alpha() const { return alpha_; }
 
  private:
+  // What a spring lying in an interior layer of `axis` loses: 2 alpha / (n - 2), so that the
+  // layers' sum is unchanged (0 for an axis left alone).
+  double InteriorDecrement(int axis) const;
+
   Eigen::Vector3i lo_ = Eigen::Vector3i::Zero();
   Eigen::Vector3i layers_ = Eigen::Vector3i::Zero();
   Eigen::Vector3d alpha_ = Eigen::Vector3d::Zero();
