@@ -3,6 +3,7 @@
 // two seeds, E within 2 % and nu within 0.01 in the virtual compression test. The body is
 // measured with seeds different from the representative block's.
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -17,9 +18,11 @@ namespace msm_sim::core {
 namespace {
 
 constexpr double kYoungs = 1e5;
-// nu = 0.49 is not in the grid: its calibration solves at q of 20-40 on the 12,288-node block
-// took minutes (docs/physics.md §2.2).
-const std::vector<double> kTargets = {-0.6, 0.0, 0.25, 0.45};
+const std::vector<double> kTargets = {-0.6, 0.0, 0.25, 0.45, 0.49};
+// The bodies are compressed by 10^-3, the small-strain moduli the calibration measures (and
+// targets). At the default 1 % the corrected nu = 0.49 bodies (q = 55) took 23 minutes of
+// static solves, and read E -0.53 / -0.52 %, nu -0.0055 / +0.0015 (seeds 1 / 2).
+constexpr double kStrain = 1e-3;
 const std::vector<std::uint64_t> kSeeds = {1u, 2u};
 
 using testing::Compress;
@@ -47,7 +50,7 @@ Errors Measure(const Material& material, const RandomLatticeOptions& options) {
   const double springs_per_node = ComputeModelStatistics(model).mean_springs_per_node;
   EXPECT_GE(springs_per_node, 15.0);
   EXPECT_LE(springs_per_node, 25.0);
-  const CompressionExperimentResult r = Compress(model, options.size);
+  const CompressionExperimentResult r = Compress(model, options.size, kStrain);
   return Errors{r.youngs_measured / kYoungs - 1.0, r.poisson_measured - material.poisson_ratio()};
 }
 
@@ -68,6 +71,10 @@ TEST(RandomSelfCalibration, MeetsTargetForEveryPoissonRatioAndSeed) {
       worst_plain_poisson = std::max(worst_plain_poisson, std::abs(plain.poisson));
       options.calibration = calibration;
       const Errors corrected = Measure(material, options);
+      std::printf(
+          "  nu %.2f seed %d: E %+.2f %%, nu %+.4f -> E %+.2f %%, nu %+.4f (k x %.4f, q %.4f)\n",
+          nu, static_cast<int>(seed), 100.0 * plain.youngs, plain.poisson, 100.0 * corrected.youngs,
+          corrected.poisson, calibration.stiffness_factor, calibration.dispersion_fraction);
       EXPECT_NEAR(corrected.youngs, 0.0, 0.02) << "nu " << nu << " seed " << seed;
       EXPECT_NEAR(corrected.poisson, 0.0, 0.01) << "nu " << nu << " seed " << seed;
     }
