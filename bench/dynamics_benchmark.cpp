@@ -15,8 +15,11 @@ namespace {
 // 40 x 20 x 15 = 12,000 nodes at a = 1 cm, about 99k springs, resting on the ground: every
 // step evaluates the eMSM forces (two-pass, nu = 0.45) with dampers, integrates, and resolves
 // the ground's microcollisions of the bottom layer; with `record_contact_points`, also keeps them
-// (World::contact_points) and averages them as the node does for ~contact_points.
-void DynamicsStep12k(benchmark::State& state, bool record_contact_points) {
+// (World::contact_points) and averages them as the node does for ~contact_points; with
+// `orientation_threshold` > 0, also evaluates the orientation barrier's 8 corners per node
+// (BodyOptions::orientation_threshold; none is below it at rest, so it adds no force).
+void DynamicsStep12k(benchmark::State& state, bool record_contact_points,
+                     double orientation_threshold = 0.0) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d(0.4, 0.2, 0.15);
   lattice.spacing = 0.01;
@@ -28,6 +31,7 @@ void DynamicsStep12k(benchmark::State& state, bool record_contact_points) {
   World world(world_options);
   BodyOptions options;
   options.damping_beta = 1e-4;
+  options.orientation_threshold = orientation_threshold;
   const int body = world.AddBody("block", model, options);
   world.AddCollider(GroundTouching(model->rest_positions(), world.border(body)));
   const double step = world.stable_time_step();
@@ -54,6 +58,10 @@ void BM_DynamicsStep12k(benchmark::State& state) { DynamicsStep12k(state, false)
 void BM_DynamicsStep12kContactPoints(benchmark::State& state) { DynamicsStep12k(state, true); }
 BENCHMARK(BM_DynamicsStep12k)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 BENCHMARK(BM_DynamicsStep12kContactPoints)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+void BM_DynamicsStep12kOrientationBarrier(benchmark::State& state) {
+  DynamicsStep12k(state, false, 0.2);
+}
+BENCHMARK(BM_DynamicsStep12kOrientationBarrier)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 
 }  // namespace
 }  // namespace msm_sim::core

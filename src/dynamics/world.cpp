@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "dynamics/world_internal.h"
@@ -37,6 +38,13 @@ World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> bod
                              : model->characteristic_length();
   self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
   evaluator.set_precision(world_options.spring_precision);
+  if (body_options.orientation_threshold > 0.0) {
+    const double modulus = body_options.orientation_modulus > 0.0
+                               ? body_options.orientation_modulus
+                               : model->material().youngs_modulus();
+    evaluator.set_orientation_barrier(std::make_shared<const OrientationBarrier>(
+        *model, modulus, body_options.orientation_threshold));
+  }
   StableTimeStepOptions step;
   step.damping_beta = body_options.damping_beta;
   step.safety = world_options.time_step_safety;
@@ -92,6 +100,11 @@ static void ValidateBodyOptions(const std::string& name, const BodyOptions& opti
           "body '" + name + "': friction must be finite and >= 0");
   Require(options.restitution >= 0.0 && options.restitution <= 1.0,
           "body '" + name + "': restitution must lie in [0, 1]");
+  Require(options.orientation_threshold == 0.0 ||
+              (options.orientation_threshold > 0.0 && options.orientation_threshold < 1.0),
+          "body '" + name + "': orientation threshold must be 0 (off) or lie in (0, 1)");
+  Require(options.orientation_modulus >= 0.0 && Finite(options.orientation_modulus),
+          "body '" + name + "': orientation modulus must be finite and >= 0");
 }
 
 int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,

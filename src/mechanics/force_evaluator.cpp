@@ -76,6 +76,10 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, Spri
   }
 }
 
+void ForceEvaluator::set_orientation_barrier(std::shared_ptr<const OrientationBarrier> barrier) {
+  barrier_ = std::move(barrier);
+}
+
 void ForceEvaluator::set_max_threads(int max_threads) {
   max_threads_ = std::clamp(max_threads, 1, WorkerPool::kMaxShares);
 }
@@ -374,6 +378,8 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
   if (runs) {
     AccumulateRuns(positions, damping, forces);
     has_previous_dispersion_ = dispersion;
+    // The single-precision loops add the barrier on each share, before its `after` stage.
+    if (barrier_ && !single_) barrier_->AccumulateForces(positions, forces);
     return;
   }
   totals_scheduled_ = false;
@@ -382,6 +388,7 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
     linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
            : PlainPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
     if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
+    if (barrier_) barrier_->AccumulateForces(positions, forces);
     return;
   }
   if (passes_ == DispersionPasses::kOnePass && has_previous_dispersion_) {
@@ -398,6 +405,7 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
   }
   has_previous_dispersion_ = true;
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
+  if (barrier_) barrier_->AccumulateForces(positions, forces);
 }
 
 void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -515,6 +523,11 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
     }
   });
+  // In double, once every share's `before` stage has moved its nodes; added per share below.
+  if (barrier_) {
+    barrier_forces_.setZero(3, n);
+    barrier_->AccumulateForces(positions, &barrier_forces_);
+  }
   const long length = single_->max_offset;
   single_overflows_.resize(4 * length * count);
   const auto overflow = [&](int t, int block) {
@@ -539,6 +552,10 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       StoreSingleEndForces(f, n, share.begin, share.end, forces->data());
     } else {
       AddSingleEndForces(f, n, share.begin, share.end, forces->data());
+    }
+    if (barrier_) {
+      forces->middleCols(share.begin, share.end - share.begin) +=
+          barrier_forces_.middleCols(share.begin, share.end - share.begin);
     }
     if (stages_ != nullptr) stages_->after(share.begin, share.end);
   };

@@ -48,8 +48,10 @@ double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
 }
 
 double ForceEvaluator::ElasticEnergy(const Eigen::Matrix3Xd& positions) const {
-  return model_->spring_law() == SpringLaw::kLinear ? EnergyImpl<SpringLaw::kLinear>(positions)
-                                                    : EnergyImpl<SpringLaw::kNonlinear>(positions);
+  const double springs = model_->spring_law() == SpringLaw::kLinear
+                             ? EnergyImpl<SpringLaw::kLinear>(positions)
+                             : EnergyImpl<SpringLaw::kNonlinear>(positions);
+  return barrier_ ? springs + barrier_->Energy(positions) : springs;
 }
 
 template <SpringLaw Law>
@@ -86,6 +88,12 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
                                              : LinearizeImpl<SpringLaw::kNonlinear>(positions);
   geometric_tensions_ =
       geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
+  if (barrier_) {
+    barrier_positions_ = positions;
+    barrier_active_ = barrier_->ActiveCorners(positions);
+    // Like compressed springs' geometric term, the barrier's curvature can make K indefinite.
+    barrier_curvature_ = geometric == GeometricStiffness::kExact;
+  }
   if (scheduled_) {
     // AccumulateForces above went through the run kernels (two-pass), so it left the total
     // tensions in schedule order and the positions as x, y, z blocks in node_arrays_.
@@ -126,6 +134,13 @@ void ForceEvaluator::ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix
 }
 
 void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
+  ApplySpringStiffness(v, out);
+  if (barrier_ && !barrier_active_.empty()) {
+    barrier_->AddStiffnessProduct(barrier_positions_, barrier_active_, barrier_curvature_, v, out);
+  }
+}
+
+void ForceEvaluator::ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
   if (scheduled_) {
     ApplyStiffnessRuns(v, out);
     return;
@@ -189,6 +204,12 @@ void ForceEvaluator::ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v,
 }
 
 Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
+  Eigen::Matrix3Xd diagonal = SpringStiffnessDiagonal();
+  if (barrier_) barrier_->AddStiffnessDiagonal(barrier_positions_, barrier_active_, &diagonal);
+  return diagonal;
+}
+
+Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const bool disperse = model_->dispersion_fraction() != 0.0;

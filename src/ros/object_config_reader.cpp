@@ -28,14 +28,29 @@ using param::Text;
 using param::Vector;
 
 // The keys an object and its shape take (README "msm_sim_node").
-const std::set<std::string> kObjectKeys = {"name",        "shape",        "pose",
-                                           "model",       "spacing",      "target_nodes",
-                                           "spring",      "antialias",    "free_face_bending",
-                                           "seed",        "material",     "youngs",
-                                           "poisson",     "density",      "damping",
-                                           "friction",    "restitution",  "clamps",
-                                           "visual_mesh", "visual_scale", "shore_a",
-                                           "shore_00"};
+const std::set<std::string> kObjectKeys = {"name",
+                                           "shape",
+                                           "pose",
+                                           "model",
+                                           "spacing",
+                                           "target_nodes",
+                                           "spring",
+                                           "antialias",
+                                           "free_face_bending",
+                                           "seed",
+                                           "material",
+                                           "youngs",
+                                           "poisson",
+                                           "density",
+                                           "damping",
+                                           "friction",
+                                           "restitution",
+                                           "clamps",
+                                           "visual_mesh",
+                                           "visual_scale",
+                                           "shore_a",
+                                           "shore_00",
+                                           "orientation_threshold"};
 const std::set<std::string> kShapeKeys = {"type", "size", "radius", "length", "uri", "scale"};
 // A random model's seed is read as a double: whole numbers above 2^53 are not all representable.
 constexpr double kMaxSeed = 9007199254740992.0;
@@ -231,6 +246,14 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   config.restitution = Number(object, "restitution", config.restitution, path);
   if (config.restitution < 0.0 || config.restitution > 1.0) {
     Fail(path + "/restitution", "must lie in [0, 1]");
+  }
+  config.orientation_threshold =
+      Number(object, "orientation_threshold", config.orientation_threshold, path);
+  if (config.orientation_threshold != 0.0 &&
+      !(config.orientation_threshold > 0.0 && config.orientation_threshold < 1.0)) {
+    Fail(path + "/orientation_threshold",
+         "must be 0 (off) or lie in (0, 1), a fraction of a cell corner's rest volume; 0.2 "
+         "unfolds a block squeezed to 30 % of its height");
   }
   if (Has(object, "clamps")) {
     XmlRpcValue& clamps = object["clamps"];

@@ -310,6 +310,7 @@ core::BodyOptions Simulation::BodyOptionsOf(const ObjectConfig& config) const {
   options.damping_beta = config.damping;
   options.friction = config.friction;
   options.restitution = config.restitution;
+  options.orientation_threshold = config.orientation_threshold;
   return options;
 }
 

@@ -60,6 +60,8 @@ struct ObjectConfig {
   double damping = 0.0;                               ///< s, spring dampers c = damping k
   double friction = 0.5;                              ///< Coulomb coefficient of the surface
   double restitution = 1.0;                           ///< e of its microcollisions
+  /// Cubic models: the orientation barrier's threshold, 0 off (core::BodyOptions).
+  double orientation_threshold = 0.0;
   std::vector<ClampConfig> clamps;
   std::string visual_mesh_path;  ///< optional finer surface for the markers
   double visual_scale = 1.0;

@@ -87,6 +87,26 @@ TEST(ObjectConfig, FreeFaceBendingIsRead) {
   scene.deleteParam("");
 }
 
+// objects[]/orientation_threshold (docs/physics.md §4): off unless asked for; outside (0, 1)
+// the configuration is refused, naming the parameter.
+TEST(ObjectConfig, OrientationThresholdIsRead) {
+  ros::NodeHandle scene("/orientation_scene");
+  scene.deleteParam("");
+  XmlRpc::XmlRpcValue objects;
+  objects[0] = BoxObject();
+  scene.setParam("objects", objects);
+  EXPECT_EQ(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].orientation_threshold,
+            0.0);
+  objects[0]["orientation_threshold"] = 0.2;
+  scene.setParam("objects", objects);
+  EXPECT_EQ(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].orientation_threshold,
+            0.2);
+  scene.deleteParam("");
+  for (const double bad : {-0.1, 1.0, 1.5}) {
+    ExpectConfigError("orientation_threshold", bad, "objects[0]/orientation_threshold");
+  }
+}
+
 // shore_a or shore_00 instead of youngs: E from the core's conversion; outside its range or
 // beside youngs, one ConfigError naming the parameter, the object and what to give instead.
 TEST(ObjectConfig, ShoreHardnessGivesTheModulus) {

@@ -18,6 +18,15 @@ struct BodyOptions {
   /// robot handles rarely fold onto themselves, and a very soft ball squashed flat (E = 20 kPa,
   /// 40 % strain) gained energy through its self-contacts (measured; see README).
   bool self_collision = false;
+  /// Orientation barrier (docs/physics.md §4, OrientationBarrier): a cell corner of a cubic
+  /// lattice squeezed below this fraction of its rest volume, or turned inside out, is pushed
+  /// back with modulus `orientation_modulus`. Without it a lattice squeezed hard enough to fold
+  /// stays folded after the release. 0 (the default) turns it off; otherwise in (0, 1). Off by
+  /// default because it costs 8 corner evaluations per node and step, and contact-sized
+  /// deformations never reach it.
+  double orientation_threshold = 0.0;
+  /// Pa, >= 0; 0 (the default) takes the material's Young's modulus E.
+  double orientation_modulus = 0.0;
 };
 
 /// How a World steps all of its bodies: gravity, substeps, the integrator and its solver,

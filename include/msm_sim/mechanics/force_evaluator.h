@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/mechanics/orientation_barrier.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -81,6 +82,11 @@ class ForceEvaluator {
   explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
                           SpringKernels kernels = SpringKernels::kAuto, int max_threads = 1);
 
+  /// Adds `barrier`'s forces to every later evaluation (and its energy and stiffness to
+  /// ElasticEnergy, Linearize, ApplyStiffness and StiffnessDiagonal); null removes it. They are
+  /// not spring tensions, so total_tensions leaves them out. Precondition: built for model().
+  void set_orientation_barrier(std::shared_ptr<const OrientationBarrier> barrier);
+
   /// Changes max_threads (>= 1, as in the constructor).
   void set_max_threads(int max_threads);
 
@@ -122,10 +128,10 @@ class ForceEvaluator {
   int NumNodeShares() const;
 
   /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
-  /// Phi = sum_x J_x^2 / (2 q W_x). Phi is exact for linear springs; with the carrier law the
-  /// dispersion follows the small-strain stiffness, so Phi is its potential to second order in
-  /// the strain. Kept out of AccumulateForces because the carrier law's logarithm would double
-  /// the cost of a step.
+  /// Phi = sum_x J_x^2 / (2 q W_x) (plus the orientation barrier's, if set). Phi is exact for
+  /// linear springs; with the carrier law the dispersion follows the small-strain stiffness, so Phi
+  /// is its potential to second order in the strain. Kept out of AccumulateForces because the
+  /// carrier law's logarithm would double the cost of a step.
   double ElasticEnergy(const Eigen::Matrix3Xd& positions) const;
 
   /// Total tension of every spring at the last AccumulateForces (N, > 0 stretched): direct plus
@@ -203,6 +209,10 @@ class ForceEvaluator {
                   Eigen::Matrix3Xd* forces);
   void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// ApplyStiffness without the orientation barrier.
+  void ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// StiffnessDiagonal without the orientation barrier.
+  Eigen::Matrix3Xd SpringStiffnessDiagonal() const;
   /// ApplyStiffness through the run kernels (linear springs, no Baudet elements).
   void ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   template <SpringLaw Law>
@@ -250,6 +260,11 @@ class ForceEvaluator {
       single_inverse_lengths_;
   // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each.
   Eigen::VectorXf single_overflows_;
+  std::shared_ptr<const OrientationBarrier> barrier_;  // null: none
+  Eigen::Matrix3Xd barrier_forces_;     // the single loops' barrier forces, added per share
+  Eigen::Matrix3Xd barrier_positions_;  // at the last Linearize
+  std::vector<int> barrier_active_;     // its corners below the threshold then
+  bool barrier_curvature_ = true;       // false under GeometricStiffness::kDropCompression
 };
 
 }  // namespace msm_sim::core

@@ -1,0 +1,74 @@
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "msm_sim/model/model.h"
+
+namespace msm_sim::core {
+
+/// An energy that knows which way a lattice cell faces (docs/physics.md §4 "Orientation
+/// barrier"). A spring network has none: a cubic lattice folded so that a node layer has passed
+/// its neighbour has the same spring lengths as the unfolded one, so nothing drives it back.
+///
+/// Each corner of a cubic lattice's cells (a node and its three lattice neighbours along
+/// orthogonal edges) measures its volume ratio J = det(e1, e2, e3) / det(E1, E2, E3) of the
+/// current edges e over the rest edges E: 1 at rest, negative once turned inside out. Below
+/// `threshold` the corner stores W = 1/2 c (threshold - J)^2 with c = modulus * (rest cell volume /
+/// 8), and nothing above: the small-strain calibration is untouched as long as no corner is
+/// squeezed below the threshold. Only lattices with orthogonal edge springs have corners
+/// (cubic node-centred, element-corner, Baudet, meshes built on them); random lattices have none.
+class OrientationBarrier {
+ public:
+  /// The corners of every node of `model` whose springs of the characteristic length include
+  /// three mutually orthogonal ones (within 1e-6), one per such triple.
+  /// Preconditions: modulus >= 0 (Pa), threshold in (0, 1).
+  OrientationBarrier(const Model& model, double modulus, double threshold);
+
+  int num_corners() const { return static_cast<int>(corners_.size()); }
+  /// The number of runs the corners form (corners at consecutive apexes with equal offsets).
+  int num_runs() const { return static_cast<int>(runs_.size()); }
+  double threshold() const { return threshold_; }
+  const std::vector<std::array<NodeIndex, 4>>& corners() const { return corners_; }
+
+  /// J of each corner at `positions` (3 x N).
+  Eigen::VectorXd VolumeRatios(const Eigen::Matrix3Xd& positions) const;
+  /// Adds the barrier's forces at `positions` to *forces (3 x N).
+  void AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) const;
+  /// The barrier's energy at `positions` (J).
+  double Energy(const Eigen::Matrix3Xd& positions) const;
+  /// The corners below the threshold at `positions`: the ones the stiffness below involves.
+  std::vector<int> ActiveCorners(const Eigen::Matrix3Xd& positions) const;
+  /// Adds K v to *out, K = d^2 W / dx^2 at `positions` over the `active` corners. With
+  /// `with_curvature` false only the Gauss-Newton part c grad J grad J^T is kept (positive
+  /// semi-definite); the left-out c (threshold - J) d^2 J / dx^2 has a zero diagonal.
+  void AddStiffnessProduct(const Eigen::Matrix3Xd& positions, const std::vector<int>& active,
+                           bool with_curvature, const Eigen::Matrix3Xd& v,
+                           Eigen::Matrix3Xd* out) const;
+  /// Adds the diagonal of K (exact: the curvature part has none) to *diagonal (3 x N).
+  void AddStiffnessDiagonal(const Eigen::Matrix3Xd& positions, const std::vector<int>& active,
+                            Eigen::Matrix3Xd* diagonal) const;
+
+ private:
+  /// Corners at consecutive apexes with the same neighbour offsets.
+  struct CornerRun {
+    int first;  // index of its first corner
+    int length;
+    std::array<NodeIndex, 3> offset;  // neighbour index minus apex index
+  };
+  /// Orders the corners by run and fills runs_.
+  void SortIntoRuns();
+  /// Calls visit(corner, J) for each corner below the threshold at `positions`, in corner order.
+  template <typename Visit>
+  void ForEachBelowThreshold(const Eigen::Matrix3Xd& positions, Visit&& visit) const;
+
+  std::vector<CornerRun> runs_;
+  std::vector<std::array<NodeIndex, 4>> corners_;
+  std::vector<double> inverse_rest_det_;  // 1 / det(E1, E2, E3), of either sign
+  std::vector<double> coefficient_;       // c (J)
+  double threshold_;
+};
+
+}  // namespace msm_sim::core

@@ -1,0 +1,253 @@
+#include "msm_sim/mechanics/orientation_barrier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <tuple>
+
+#include <Eigen/Geometry>
+
+#include "mechanics/simd_clones.h"
+
+namespace msm_sim::core {
+namespace {
+
+struct Corner {
+  Eigen::Vector3d e[3];         // current edges from the apex
+  Eigen::Vector3d gradient[4];  // dJ / dx of apex, ends 1, 2, 3
+  double ratio = 0.0;           // J
+};
+
+Corner Evaluate(const Eigen::Matrix3Xd& x, const std::array<NodeIndex, 4>& nodes,
+                double inverse_rest_det) {
+  Corner c;
+  for (int i = 0; i < 3; ++i) c.e[i] = x.col(nodes[i + 1]) - x.col(nodes[0]);
+  c.gradient[1] = inverse_rest_det * c.e[1].cross(c.e[2]);
+  c.gradient[2] = inverse_rest_det * c.e[2].cross(c.e[0]);
+  c.gradient[3] = inverse_rest_det * c.e[0].cross(c.e[1]);
+  c.gradient[0] = -(c.gradient[1] + c.gradient[2] + c.gradient[3]);
+  c.ratio = c.e[0].dot(c.gradient[1]);
+  return c;
+}
+
+// J of `count` corners whose apexes are consecutive nodes from `apex` and whose ends are at
+// fixed index offsets, from positions as x, y, z arrays: unit-stride loads, so it vectorises
+// (AVX2 + FMA clone where the CPU has it; the file is built without FP contraction, so both
+// clones compute the same J). Returns the smallest, so that a run of healthy corners (nearly
+// all of them) needs no second look.
+MSM_SIM_SIMD_CLONES
+double RunRatios(const double* xs, const double* ys, const double* zs, NodeIndex apex,
+                 const std::array<NodeIndex, 3>& offset, const double* inverse_rest_det, int count,
+                 double* ratio) {
+  const double *px = xs + apex, *py = ys + apex, *pz = zs + apex;
+  const double *ax = px + offset[0], *ay = py + offset[0], *az = pz + offset[0];
+  const double *bx = px + offset[1], *by = py + offset[1], *bz = pz + offset[1];
+  const double *cx = px + offset[2], *cy = py + offset[2], *cz = pz + offset[2];
+  double smallest = std::numeric_limits<double>::infinity();
+#pragma omp simd reduction(min : smallest)
+  for (int t = 0; t < count; ++t) {
+    const double e0x = ax[t] - px[t], e0y = ay[t] - py[t], e0z = az[t] - pz[t];
+    const double e1x = bx[t] - px[t], e1y = by[t] - py[t], e1z = bz[t] - pz[t];
+    const double e2x = cx[t] - px[t], e2y = cy[t] - py[t], e2z = cz[t] - pz[t];
+    ratio[t] =
+        inverse_rest_det[t] * (e0x * (e1y * e2z - e1z * e2y) + e0y * (e1z * e2x - e1x * e2z) +
+                               e0z * (e1x * e2y - e1y * e2x));
+    smallest = ratio[t] < smallest ? ratio[t] : smallest;
+  }
+  return smallest;
+}
+
+}  // namespace
+
+OrientationBarrier::OrientationBarrier(const Model& model, double modulus, double threshold)
+    : threshold_(threshold) {
+  if (!(modulus >= 0.0) || !std::isfinite(modulus)) {
+    throw std::invalid_argument("the orientation barrier's modulus must be finite and >= 0");
+  }
+  if (!(threshold > 0.0 && threshold < 1.0)) {
+    throw std::invalid_argument("the orientation barrier's threshold must be in (0, 1)");
+  }
+  const double edge = model.characteristic_length();
+  const double tolerance = 1e-6;
+  const auto& rest = model.rest_positions();
+  const auto& offsets = model.incidence_offsets();
+  const auto& incident = model.incident_springs();
+  std::vector<NodeIndex> neighbours;
+  std::vector<Eigen::Vector3d> directions;
+  for (NodeIndex p = 0; p < model.num_nodes(); ++p) {
+    neighbours.clear();
+    directions.clear();
+    for (int k = offsets[p]; k < offsets[p + 1]; ++k) {
+      const SpringIndex s = incident[k];
+      const NodeIndex other =
+          model.spring_node_a()[s] == p ? model.spring_node_b()[s] : model.spring_node_a()[s];
+      const Eigen::Vector3d d = rest.col(other) - rest.col(p);
+      if (std::abs(d.norm() - edge) > tolerance * edge) continue;
+      neighbours.push_back(other);
+      directions.push_back(d / edge);
+    }
+    const int count = static_cast<int>(neighbours.size());
+    for (int i = 0; i < count; ++i) {
+      for (int j = i + 1; j < count; ++j) {
+        if (std::abs(directions[i].dot(directions[j])) > tolerance) continue;
+        for (int k = j + 1; k < count; ++k) {
+          if (std::abs(directions[i].dot(directions[k])) > tolerance ||
+              std::abs(directions[j].dot(directions[k])) > tolerance) {
+            continue;
+          }
+          // Ends in index order, whatever the order of the node's springs, so that a lattice
+          // row's corners share their offsets; the sign of the rest triple product then goes
+          // into 1 / det0 instead of the order.
+          std::array<NodeIndex, 4> nodes = {p, neighbours[i], neighbours[j], neighbours[k]};
+          std::sort(nodes.begin() + 1, nodes.end());
+          Eigen::Matrix3d edges;
+          for (int e = 0; e < 3; ++e) edges.col(e) = rest.col(nodes[e + 1]) - rest.col(p);
+          const double rest_det = edges.determinant();
+          corners_.push_back(nodes);
+          inverse_rest_det_.push_back(1.0 / rest_det);
+          coefficient_.push_back(modulus * std::abs(rest_det) / 8.0);
+        }
+      }
+    }
+  }
+  SortIntoRuns();
+}
+
+void OrientationBarrier::SortIntoRuns() {
+  // Corners with the same neighbour offsets at consecutive apexes (a lattice row) form a run
+  // whose loads are unit-stride: the screen below then vectorises.
+  const auto key = [&](int c) {
+    const auto& n = corners_[c];
+    return std::make_tuple(n[1] - n[0], n[2] - n[0], n[3] - n[0], n[0]);
+  };
+  std::vector<int> order(corners_.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+  std::vector<std::array<NodeIndex, 4>> corners(order.size());
+  std::vector<double> inverse_rest_det(order.size()), coefficient(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    corners[i] = corners_[order[i]];
+    inverse_rest_det[i] = inverse_rest_det_[order[i]];
+    coefficient[i] = coefficient_[order[i]];
+  }
+  corners_ = std::move(corners);
+  inverse_rest_det_ = std::move(inverse_rest_det);
+  coefficient_ = std::move(coefficient);
+  runs_.clear();
+  for (int c = 0; c < num_corners(); ++c) {
+    const auto& n = corners_[c];
+    if (!runs_.empty()) {
+      CornerRun& run = runs_.back();
+      const auto& last = corners_[run.first + run.length - 1];
+      if (n[0] == last[0] + 1 && n[1] - n[0] == run.offset[0] && n[2] - n[0] == run.offset[1] &&
+          n[3] - n[0] == run.offset[2]) {
+        ++run.length;
+        continue;
+      }
+    }
+    runs_.push_back({c, 1, {n[1] - n[0], n[2] - n[0], n[3] - n[0]}});
+  }
+}
+
+template <typename Visit>
+void OrientationBarrier::ForEachBelowThreshold(const Eigen::Matrix3Xd& positions,
+                                               Visit&& visit) const {
+  // The positions as x, y, z arrays, in a buffer each thread keeps (the barrier is shared).
+  thread_local std::vector<double> arrays;
+  const Eigen::Index n = positions.cols();
+  arrays.resize(3 * n);
+  double* xs = arrays.data();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    xs[i] = positions(0, i);
+    xs[n + i] = positions(1, i);
+    xs[2 * n + i] = positions(2, i);
+  }
+  constexpr int kChunk = 256;
+  double ratio[kChunk];
+  for (const CornerRun& run : runs_) {
+    for (int begin = 0; begin < run.length; begin += kChunk) {
+      const int count = std::min(kChunk, run.length - begin);
+      const int first = run.first + begin;
+      const double smallest = RunRatios(xs, xs + n, xs + 2 * n, corners_[first][0], run.offset,
+                                        inverse_rest_det_.data() + first, count, ratio);
+      if (smallest >= threshold_) continue;
+      for (int t = 0; t < count; ++t) {
+        if (ratio[t] < threshold_) visit(first + t, ratio[t]);
+      }
+    }
+  }
+}
+
+Eigen::VectorXd OrientationBarrier::VolumeRatios(const Eigen::Matrix3Xd& positions) const {
+  Eigen::VectorXd ratios(num_corners());
+  for (int c = 0; c < num_corners(); ++c) {
+    ratios[c] = Evaluate(positions, corners_[c], inverse_rest_det_[c]).ratio;
+  }
+  return ratios;
+}
+
+void OrientationBarrier::AccumulateForces(const Eigen::Matrix3Xd& positions,
+                                          Eigen::Matrix3Xd* forces) const {
+  ForEachBelowThreshold(positions, [&](int c, double) {
+    const Corner corner = Evaluate(positions, corners_[c], inverse_rest_det_[c]);
+    // f = -dW/dx = c (threshold - J) dJ/dx: pushes J back up.
+    const double push = coefficient_[c] * (threshold_ - corner.ratio);
+    for (int i = 0; i < 4; ++i) forces->col(corners_[c][i]) += push * corner.gradient[i];
+  });
+}
+
+double OrientationBarrier::Energy(const Eigen::Matrix3Xd& positions) const {
+  double energy = 0.0;
+  ForEachBelowThreshold(positions, [&](int c, double ratio) {
+    energy += 0.5 * coefficient_[c] * std::pow(threshold_ - ratio, 2);
+  });
+  return energy;
+}
+
+std::vector<int> OrientationBarrier::ActiveCorners(const Eigen::Matrix3Xd& positions) const {
+  std::vector<int> active;
+  ForEachBelowThreshold(positions, [&](int c, double) { active.push_back(c); });
+  return active;
+}
+
+void OrientationBarrier::AddStiffnessProduct(const Eigen::Matrix3Xd& positions,
+                                             const std::vector<int>& active, bool with_curvature,
+                                             const Eigen::Matrix3Xd& v,
+                                             Eigen::Matrix3Xd* out) const {
+  for (const int c : active) {
+    const auto& nodes = corners_[c];
+    const Corner corner = Evaluate(positions, nodes, inverse_rest_det_[c]);
+    double rate = 0.0;  // dJ = grad J . v
+    for (int i = 0; i < 4; ++i) rate += corner.gradient[i].dot(v.col(nodes[i]));
+    for (int i = 0; i < 4; ++i) out->col(nodes[i]) += coefficient_[c] * rate * corner.gradient[i];
+    if (!with_curvature) continue;
+    // d(grad J) along v: the triple product is linear in each edge, so only mixed terms.
+    Eigen::Vector3d de[3];
+    for (int i = 0; i < 3; ++i) de[i] = v.col(nodes[i + 1]) - v.col(nodes[0]);
+    const double h = inverse_rest_det_[c];
+    Eigen::Vector3d dgrad[4];
+    dgrad[1] = h * (de[1].cross(corner.e[2]) + corner.e[1].cross(de[2]));
+    dgrad[2] = h * (de[2].cross(corner.e[0]) + corner.e[2].cross(de[0]));
+    dgrad[3] = h * (de[0].cross(corner.e[1]) + corner.e[0].cross(de[1]));
+    dgrad[0] = -(dgrad[1] + dgrad[2] + dgrad[3]);
+    // K = c grad J grad J^T - c (threshold - J) d^2 J / dx^2.
+    const double bend = coefficient_[c] * (threshold_ - corner.ratio);
+    for (int i = 0; i < 4; ++i) out->col(nodes[i]) -= bend * dgrad[i];
+  }
+}
+
+void OrientationBarrier::AddStiffnessDiagonal(const Eigen::Matrix3Xd& positions,
+                                              const std::vector<int>& active,
+                                              Eigen::Matrix3Xd* diagonal) const {
+  for (const int c : active) {
+    const Corner corner = Evaluate(positions, corners_[c], inverse_rest_det_[c]);
+    for (int i = 0; i < 4; ++i) {
+      diagonal->col(corners_[c][i]) += coefficient_[c] * corner.gradient[i].cwiseAbs2();
+    }
+  }
+}
+
+}  // namespace msm_sim::core
