@@ -34,24 +34,26 @@ Corner Evaluate(const Eigen::Matrix3Xd& x, const std::array<NodeIndex, 4>& nodes
 }
 
 // J of `count` corners whose apexes are consecutive nodes from `apex` and whose ends are at
-// fixed index offsets, from positions as x, y, z arrays: unit-stride loads, so it vectorises
+// fixed index offsets, from positions as x, y, z float arrays (relative to node 0: J to about
+// 1e-7 of the body's extent over the spacing, ample for a threshold test; the forces are
+// computed in double): unit-stride loads, so it vectorises
 // (AVX2 + FMA clone where the CPU has it; the file is built without FP contraction, so both
 // clones compute the same J). Returns the smallest, so that a run of healthy corners (nearly
 // all of them) needs no second look.
 MSM_SIM_SIMD_CLONES
-double RunRatios(const double* xs, const double* ys, const double* zs, NodeIndex apex,
-                 const std::array<NodeIndex, 3>& offset, const double* inverse_rest_det, int count,
-                 double* ratio) {
-  const double *px = xs + apex, *py = ys + apex, *pz = zs + apex;
-  const double *ax = px + offset[0], *ay = py + offset[0], *az = pz + offset[0];
-  const double *bx = px + offset[1], *by = py + offset[1], *bz = pz + offset[1];
-  const double *cx = px + offset[2], *cy = py + offset[2], *cz = pz + offset[2];
-  double smallest = std::numeric_limits<double>::infinity();
+float RunRatios(const float* xs, const float* ys, const float* zs, NodeIndex apex,
+                const std::array<NodeIndex, 3>& offset, const float* inverse_rest_det, int count,
+                float* ratio) {
+  const float *px = xs + apex, *py = ys + apex, *pz = zs + apex;
+  const float *ax = px + offset[0], *ay = py + offset[0], *az = pz + offset[0];
+  const float *bx = px + offset[1], *by = py + offset[1], *bz = pz + offset[1];
+  const float *cx = px + offset[2], *cy = py + offset[2], *cz = pz + offset[2];
+  float smallest = std::numeric_limits<float>::infinity();
 #pragma omp simd reduction(min : smallest)
   for (int t = 0; t < count; ++t) {
-    const double e0x = ax[t] - px[t], e0y = ay[t] - py[t], e0z = az[t] - pz[t];
-    const double e1x = bx[t] - px[t], e1y = by[t] - py[t], e1z = bz[t] - pz[t];
-    const double e2x = cx[t] - px[t], e2y = cy[t] - py[t], e2z = cz[t] - pz[t];
+    const float e0x = ax[t] - px[t], e0y = ay[t] - py[t], e0z = az[t] - pz[t];
+    const float e1x = bx[t] - px[t], e1y = by[t] - py[t], e1z = bz[t] - pz[t];
+    const float e2x = cx[t] - px[t], e2y = cy[t] - py[t], e2z = cz[t] - pz[t];
     ratio[t] =
         inverse_rest_det[t] * (e0x * (e1y * e2z - e1z * e2y) + e0y * (e1z * e2x - e1x * e2z) +
                                e0z * (e1x * e2y - e1y * e2x));
@@ -136,46 +138,72 @@ void OrientationBarrier::SortIntoRuns() {
   corners_ = std::move(corners);
   inverse_rest_det_ = std::move(inverse_rest_det);
   coefficient_ = std::move(coefficient);
+  // The screen's runs: a run goes on across a gap of up to kMaxGap apexes without a corner of
+  // its offsets (the end of a lattice row), padded with slots whose 1 / det0 is NaN, which no
+  // comparison selects. The apexes in a gap lie between two valid ones, and so do their
+  // neighbours' indices. Long runs keep the vector loop out of its scalar remainder.
+  constexpr int kMaxGap = 16;
   runs_.clear();
+  screen_inverse_rest_det_.clear();
+  screen_corner_.clear();
   for (int c = 0; c < num_corners(); ++c) {
     const auto& n = corners_[c];
+    const std::array<NodeIndex, 3> offset = {n[1] - n[0], n[2] - n[0], n[3] - n[0]};
     if (!runs_.empty()) {
       CornerRun& run = runs_.back();
-      const auto& last = corners_[run.first + run.length - 1];
-      if (n[0] == last[0] + 1 && n[1] - n[0] == run.offset[0] && n[2] - n[0] == run.offset[1] &&
-          n[3] - n[0] == run.offset[2]) {
+      const NodeIndex next = run.apex + run.length;  // the apex the run would take next
+      if (offset == run.offset && n[0] >= next && n[0] - next <= kMaxGap) {
+        for (; run.length < n[0] - run.apex; ++run.length) {
+          screen_inverse_rest_det_.push_back(std::numeric_limits<float>::quiet_NaN());
+          screen_corner_.push_back(-1);
+        }
         ++run.length;
+        screen_inverse_rest_det_.push_back(static_cast<float>(inverse_rest_det_[c]));
+        screen_corner_.push_back(c);
         continue;
       }
     }
-    runs_.push_back({c, 1, {n[1] - n[0], n[2] - n[0], n[3] - n[0]}});
+    runs_.push_back({static_cast<int>(screen_corner_.size()), n[0], 1, offset});
+    screen_inverse_rest_det_.push_back(static_cast<float>(inverse_rest_det_[c]));
+    screen_corner_.push_back(c);
   }
 }
 
 template <typename Visit>
 void OrientationBarrier::ForEachBelowThreshold(const Eigen::Matrix3Xd& positions,
                                                Visit&& visit) const {
-  // The positions as x, y, z arrays, in a buffer each thread keeps (the barrier is shared).
-  thread_local std::vector<double> arrays;
+  // The positions as x, y, z arrays relative to node 0, in a buffer each thread keeps (the
+  // barrier may be shared).
+  thread_local std::vector<float> arrays;
   const Eigen::Index n = positions.cols();
+  if (n == 0) return;
   arrays.resize(3 * n);
-  double* xs = arrays.data();
+  float* xs = arrays.data();
+  const Eigen::Vector3d origin = positions.col(0);
   for (Eigen::Index i = 0; i < n; ++i) {
-    xs[i] = positions(0, i);
-    xs[n + i] = positions(1, i);
-    xs[2 * n + i] = positions(2, i);
+    xs[i] = static_cast<float>(positions(0, i) - origin.x());
+    xs[n + i] = static_cast<float>(positions(1, i) - origin.y());
+    xs[2 * n + i] = static_cast<float>(positions(2, i) - origin.z());
   }
   constexpr int kChunk = 256;
-  double ratio[kChunk];
+  float ratio[kChunk];
+  // The float J is within about 1e-5 of the double one for bodies up to a few hundred
+  // spacings across: screening 1e-3 above the threshold misses no corner the double J puts
+  // below it, and the decision itself is taken in double.
+  const auto threshold = static_cast<float>(threshold_ + 1e-3);
   for (const CornerRun& run : runs_) {
     for (int begin = 0; begin < run.length; begin += kChunk) {
       const int count = std::min(kChunk, run.length - begin);
-      const int first = run.first + begin;
-      const double smallest = RunRatios(xs, xs + n, xs + 2 * n, corners_[first][0], run.offset,
-                                        inverse_rest_det_.data() + first, count, ratio);
-      if (smallest >= threshold_) continue;
+      const int slot = run.slot + begin;
+      const float smallest = RunRatios(xs, xs + n, xs + 2 * n, run.apex + begin, run.offset,
+                                       screen_inverse_rest_det_.data() + slot, count, ratio);
+      if (!(smallest < threshold)) continue;
       for (int t = 0; t < count; ++t) {
-        if (ratio[t] < threshold_) visit(first + t, ratio[t]);
+        if (!(ratio[t] < threshold)) continue;
+        const int c = screen_corner_[slot + t];
+        // Decided in double, so that the barrier acts exactly below its threshold.
+        const double exact = Evaluate(positions, corners_[c], inverse_rest_det_[c]).ratio;
+        if (exact < threshold_) visit(c, exact);
       }
     }
   }

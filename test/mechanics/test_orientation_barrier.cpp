@@ -97,6 +97,30 @@ TEST(OrientationBarrier, ScreensLongRowsWhole) {
   EXPECT_TRUE(barrier.ActiveCorners(model.rest_positions()).empty());
 }
 
+// The screen (float, over padded runs) selects exactly the corners whose double J is below the
+// threshold, on a rotated lattice whose rows start and end irregularly.
+TEST(OrientationBarrier, ScreenAgreesWithTheVolumeRatios) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(1.0, 0.8, 0.6);
+  options.spacing = kSpacing;
+  options.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
+  options.rotation_angle = 0.6;
+  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), options);
+  const OrientationBarrier barrier(model, 1e4, 0.6);
+  ASSERT_GT(barrier.num_corners(), 1000);
+  for (unsigned seed = 1; seed <= 3; ++seed) {
+    const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 0.25 * kSpacing, seed);
+    const Eigen::VectorXd ratios = barrier.VolumeRatios(x);
+    std::vector<int> expected;
+    for (int c = 0; c < barrier.num_corners(); ++c) {
+      if (ratios[c] < 0.6) expected.push_back(c);
+    }
+    ASSERT_GT(expected.size(), 100u);
+    ASSERT_LT(expected.size(), static_cast<std::size_t>(barrier.num_corners()));
+    EXPECT_EQ(barrier.ActiveCorners(x), expected);
+  }
+}
+
 TEST(OrientationBarrier, ForcesAreMinusTheEnergyGradient) {
   const Model model = Block(3);
   const double modulus = 2e4;

@@ -28,7 +28,7 @@ class OrientationBarrier {
   OrientationBarrier(const Model& model, double modulus, double threshold);
 
   int num_corners() const { return static_cast<int>(corners_.size()); }
-  /// The number of runs the corners form (corners at consecutive apexes with equal offsets).
+  /// The number of runs the corner screen takes (corners with equal offsets at nearby apexes).
   int num_runs() const { return static_cast<int>(runs_.size()); }
   double threshold() const { return threshold_; }
   const std::vector<std::array<NodeIndex, 4>>& corners() const { return corners_; }
@@ -52,13 +52,14 @@ class OrientationBarrier {
                             Eigen::Matrix3Xd* diagonal) const;
 
  private:
-  /// Corners at consecutive apexes with the same neighbour offsets.
+  /// Screen slots at consecutive apexes with the same neighbour offsets.
   struct CornerRun {
-    int first;  // index of its first corner
-    int length;
+    int slot;        // its first slot in screen_inverse_rest_det_ and screen_corner_
+    NodeIndex apex;  // the first slot's apex
+    int length;      // slots, padding included
     std::array<NodeIndex, 3> offset;  // neighbour index minus apex index
   };
-  /// Orders the corners by run and fills runs_.
+  /// Orders the corners by offsets and apex, and lays out the screen's runs.
   void SortIntoRuns();
   /// Calls visit(corner, J) for each corner below the threshold at `positions`, in corner order.
   template <typename Visit>
@@ -67,7 +68,10 @@ class OrientationBarrier {
   std::vector<CornerRun> runs_;
   std::vector<std::array<NodeIndex, 4>> corners_;
   std::vector<double> inverse_rest_det_;  // 1 / det(E1, E2, E3), of either sign
-  std::vector<double> coefficient_;       // c (J)
+  // Per screen slot: 1 / det0 in float (NaN for padding) and the corner (-1 for padding).
+  std::vector<float> screen_inverse_rest_det_;
+  std::vector<int> screen_corner_;
+  std::vector<double> coefficient_;  // c (J)
   double threshold_;
 };
 
