@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "expect_stiffness.h"
 #include "msm_sim/build/baudet_lattice_builder.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/build/random_lattice_builder.h"
@@ -43,22 +44,8 @@ Eigen::Matrix3Xd Forces(const Model& model, const Eigen::Matrix3Xd& x, double* e
 void ExpectExactLinearisation(const Model& model, const Eigen::Matrix3Xd& x,
                               const std::vector<int>& dofs) {
   ForceEvaluator evaluator(model);
-  evaluator.Linearize(x);
-  const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
-  const double h = 1e-7;
-  for (const int dof : dofs) {
-    Eigen::Matrix3Xd xp = x, xm = x;
-    xp.data()[dof] += h;
-    xm.data()[dof] -= h;
-    const Eigen::Matrix3Xd column = -(Forces(model, xp) - Forces(model, xm)) / (2 * h);
-    Eigen::Matrix3Xd unit = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-    unit.data()[dof] = 1.0;
-    Eigen::Matrix3Xd analytic;
-    evaluator.ApplyStiffness(unit, &analytic);
-    ASSERT_LT((column - analytic).norm(), 1e-5 * (1.0 + analytic.norm())) << "dof " << dof;
-    ASSERT_NEAR(diagonal.data()[dof], analytic.data()[dof], 1e-6 * (1.0 + analytic.norm()))
-        << "dof " << dof;
-  }
+  ExpectStiffnessIsTheForcesDerivative(
+      &evaluator, [&](const Eigen::Matrix3Xd& at) { return Forces(model, at); }, x, dofs);
 }
 
 // Checks the forces at x against central differences of ElasticEnergy at the given DOFs.

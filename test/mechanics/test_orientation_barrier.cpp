@@ -3,11 +3,13 @@
 // inside ForceEvaluator's loops.
 #include <cmath>
 #include <memory>
+#include <numeric>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include "expect_stiffness.h"
 #include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
@@ -163,22 +165,9 @@ TEST(OrientationBarrier, StiffnessIsTheDerivativeOfTheForces) {
     fresh.AccumulateForces(at, &f);
     return f;
   };
-  evaluator.Linearize(x);
-  const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
-  const double h = 1e-7;
-  for (int dof = 0; dof < x.size(); ++dof) {
-    Eigen::Matrix3Xd xp = x, xm = x;
-    xp.data()[dof] += h;
-    xm.data()[dof] -= h;
-    const Eigen::Matrix3Xd column = -(forces(xp) - forces(xm)) / (2 * h);
-    Eigen::Matrix3Xd unit = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-    unit.data()[dof] = 1.0;
-    Eigen::Matrix3Xd analytic;
-    evaluator.ApplyStiffness(unit, &analytic);
-    ASSERT_LT((column - analytic).norm(), 1e-5 * (1.0 + analytic.norm())) << "dof " << dof;
-    ASSERT_NEAR(diagonal.data()[dof], analytic.data()[dof], 1e-6 * (1.0 + analytic.norm()))
-        << "dof " << dof;
-  }
+  std::vector<int> dofs(x.size());
+  std::iota(dofs.begin(), dofs.end(), 0);
+  ExpectStiffnessIsTheForcesDerivative(&evaluator, forces, x, dofs);
   // Without the curvature the barrier's part of K is c grad J grad J^T: v^T K v >= that of the
   // springs alone for any v.
   ForceEvaluator springs_only(model);

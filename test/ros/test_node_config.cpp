@@ -73,35 +73,32 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   scene.deleteParam("");
 }
 
-// objects[]/free_face_bending (docs/physics.md §2.1): off unless asked for.
-TEST(ObjectConfig, FreeFaceBendingIsRead) {
-  ros::NodeHandle scene("/bending_scene");
+// The first object as read from a scene holding BoxObject() with `key` set to `value` (an empty
+// key: BoxObject() as it is).
+msm_sim::ros_interface::ObjectConfig LoadBoxObject(const std::string& key = "",
+                                                   XmlRpc::XmlRpcValue value = {}) {
+  ros::NodeHandle scene("/object_scene");
   scene.deleteParam("");
   XmlRpc::XmlRpcValue objects;
   objects[0] = BoxObject();
+  if (!key.empty()) objects[0][key] = value;
   scene.setParam("objects", objects);
-  EXPECT_FALSE(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].free_face_bending);
-  objects[0]["free_face_bending"] = true;
-  scene.setParam("objects", objects);
-  EXPECT_TRUE(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].free_face_bending);
+  const auto config = msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0];
   scene.deleteParam("");
+  return config;
+}
+
+// objects[]/free_face_bending (docs/physics.md §2.1): off unless asked for.
+TEST(ObjectConfig, FreeFaceBendingIsRead) {
+  EXPECT_FALSE(LoadBoxObject().free_face_bending);
+  EXPECT_TRUE(LoadBoxObject("free_face_bending", true).free_face_bending);
 }
 
 // objects[]/orientation_threshold (docs/physics.md §4): off unless asked for; outside (0, 1)
 // the configuration is refused, naming the parameter.
 TEST(ObjectConfig, OrientationThresholdIsRead) {
-  ros::NodeHandle scene("/orientation_scene");
-  scene.deleteParam("");
-  XmlRpc::XmlRpcValue objects;
-  objects[0] = BoxObject();
-  scene.setParam("objects", objects);
-  EXPECT_EQ(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].orientation_threshold,
-            0.0);
-  objects[0]["orientation_threshold"] = 0.2;
-  scene.setParam("objects", objects);
-  EXPECT_EQ(msm_sim::ros_interface::LoadSimulationConfig(scene).objects[0].orientation_threshold,
-            0.2);
-  scene.deleteParam("");
+  EXPECT_EQ(LoadBoxObject().orientation_threshold, 0.0);
+  EXPECT_EQ(LoadBoxObject("orientation_threshold", 0.2).orientation_threshold, 0.2);
   for (const double bad : {-0.1, 1.0, 1.5}) {
     ExpectConfigError("orientation_threshold", bad, "objects[0]/orientation_threshold");
   }
