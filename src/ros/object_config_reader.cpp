@@ -255,6 +255,10 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
          "must be 0 (off) or lie in (0, 1), a fraction of a cell corner's rest volume; 0.2 "
          "unfolds a block squeezed to 30 % of its height");
   }
+  if (config.orientation_threshold > 0.0 && config.model == core::LatticeKind::kRandom) {
+    Fail(path + "/orientation_threshold",
+         "applies to lattices with cells (cubic, baudet); a random lattice has none");
+  }
   if (Has(object, "clamps")) {
     XmlRpcValue& clamps = object["clamps"];
     if (clamps.getType() != XmlRpcValue::TypeArray) Fail(path + "/clamps", "expected a list");

@@ -104,6 +104,26 @@ TEST(ObjectConfig, OrientationThresholdIsRead) {
   }
 }
 
+// A random lattice has no cells for the barrier: refused rather than silently ignored.
+TEST(ObjectConfig, OrientationThresholdNeedsCells) {
+  ros::NodeHandle scene("/random_orientation_scene");
+  scene.deleteParam("");
+  XmlRpc::XmlRpcValue object = BoxObject();
+  object["model"] = std::string("random");
+  object["orientation_threshold"] = 0.2;
+  XmlRpc::XmlRpcValue objects;
+  objects[0] = object;
+  scene.setParam("objects", objects);
+  try {
+    msm_sim::ros_interface::LoadSimulationConfig(scene);
+    ADD_FAILURE() << "a random model with an orientation threshold was accepted";
+  } catch (const msm_sim::ros_interface::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("objects[0]/orientation_threshold"), std::string::npos)
+        << e.what();
+  }
+  scene.deleteParam("");
+}
+
 // shore_a or shore_00 instead of youngs: E from the core's conversion; outside its range or
 // beside youngs, one ConfigError naming the parameter, the object and what to give instead.
 TEST(ObjectConfig, ShoreHardnessGivesTheModulus) {
