@@ -202,8 +202,8 @@ void OrientationBarrier::ForEachBelowThreshold(const Eigen::Matrix3Xd& positions
         if (!(ratio[t] < threshold)) continue;
         const int c = screen_corner_[slot + t];
         // Decided in double, so that the barrier acts exactly below its threshold.
-        const double exact = Evaluate(positions, corners_[c], inverse_rest_det_[c]).ratio;
-        if (exact < threshold_) visit(c, exact);
+        const Corner corner = Evaluate(positions, corners_[c], inverse_rest_det_[c]);
+        if (corner.ratio < threshold_) visit(c, corner);
       }
     }
   }
@@ -219,8 +219,7 @@ Eigen::VectorXd OrientationBarrier::VolumeRatios(const Eigen::Matrix3Xd& positio
 
 void OrientationBarrier::AccumulateForces(const Eigen::Matrix3Xd& positions,
                                           Eigen::Matrix3Xd* forces) const {
-  ForEachBelowThreshold(positions, [&](int c, double) {
-    const Corner corner = Evaluate(positions, corners_[c], inverse_rest_det_[c]);
+  ForEachBelowThreshold(positions, [&](int c, const Corner& corner) {
     // f = -dW/dx = c (threshold - J) dJ/dx: pushes J back up.
     const double push = coefficient_[c] * (threshold_ - corner.ratio);
     for (int i = 0; i < 4; ++i) forces->col(corners_[c][i]) += push * corner.gradient[i];
@@ -229,15 +228,15 @@ void OrientationBarrier::AccumulateForces(const Eigen::Matrix3Xd& positions,
 
 double OrientationBarrier::Energy(const Eigen::Matrix3Xd& positions) const {
   double energy = 0.0;
-  ForEachBelowThreshold(positions, [&](int c, double ratio) {
-    energy += 0.5 * coefficient_[c] * std::pow(threshold_ - ratio, 2);
+  ForEachBelowThreshold(positions, [&](int c, const Corner& corner) {
+    energy += 0.5 * coefficient_[c] * std::pow(threshold_ - corner.ratio, 2);
   });
   return energy;
 }
 
 std::vector<int> OrientationBarrier::ActiveCorners(const Eigen::Matrix3Xd& positions) const {
   std::vector<int> active;
-  ForEachBelowThreshold(positions, [&](int c, double) { active.push_back(c); });
+  ForEachBelowThreshold(positions, [&](int c, const Corner&) { active.push_back(c); });
   return active;
 }
 

@@ -35,11 +35,10 @@ XmlRpc::XmlRpcValue BoxObject() {
 // A bad configuration is one ConfigError naming the parameter (the node prints it as its one
 // ROS_FATAL line and exits 1).
 void ExpectConfigError(const std::string& yaml_key, XmlRpc::XmlRpcValue value,
-                       const std::string& mentions) {
+                       const std::string& mentions, XmlRpc::XmlRpcValue object = BoxObject()) {
   ros::NodeHandle scene("/bad_scene");
   scene.deleteParam("");
-  // A valid scene, then one change.
-  XmlRpc::XmlRpcValue object = BoxObject();
+  // A valid scene (`object`), then one change.
   if (yaml_key.rfind("world/", 0) != 0) object[yaml_key] = value;
   XmlRpc::XmlRpcValue objects;
   objects[0] = object;
@@ -106,22 +105,9 @@ TEST(ObjectConfig, OrientationThresholdIsRead) {
 
 // A random lattice has no cells for the barrier: refused rather than silently ignored.
 TEST(ObjectConfig, OrientationThresholdNeedsCells) {
-  ros::NodeHandle scene("/random_orientation_scene");
-  scene.deleteParam("");
-  XmlRpc::XmlRpcValue object = BoxObject();
-  object["model"] = std::string("random");
-  object["orientation_threshold"] = 0.2;
-  XmlRpc::XmlRpcValue objects;
-  objects[0] = object;
-  scene.setParam("objects", objects);
-  try {
-    msm_sim::ros_interface::LoadSimulationConfig(scene);
-    ADD_FAILURE() << "a random model with an orientation threshold was accepted";
-  } catch (const msm_sim::ros_interface::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("objects[0]/orientation_threshold"), std::string::npos)
-        << e.what();
-  }
-  scene.deleteParam("");
+  XmlRpc::XmlRpcValue random = BoxObject();
+  random["model"] = std::string("random");
+  ExpectConfigError("orientation_threshold", 0.2, "objects[0]/orientation_threshold", random);
 }
 
 // shore_a or shore_00 instead of youngs: E from the core's conversion; outside its range or

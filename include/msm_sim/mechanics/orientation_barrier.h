@@ -61,7 +61,8 @@ class OrientationBarrier {
   };
   /// Orders the corners by offsets and apex, and lays out the screen's runs.
   void SortIntoRuns();
-  /// Calls visit(corner, J) for each corner below the threshold at `positions`, in corner order.
+  /// Calls visit(c, corner) for each corner c below the threshold at `positions`, in corner
+  /// order, with its edges, J and gradient there (evaluated once, in double).
   template <typename Visit>
   void ForEachBelowThreshold(const Eigen::Matrix3Xd& positions, Visit&& visit) const;
 
