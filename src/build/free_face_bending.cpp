@@ -1,9 +1,5 @@
 #include "build/free_face_bending.h"
 
-#include <algorithm>
-
-#include <Eigen/Dense>
-
 namespace msm_sim::core {
 
 double FreeFaceBendingDeficit(int cells_across) {
@@ -13,18 +9,7 @@ double FreeFaceBendingDeficit(int cells_across) {
 
 namespace lattice {
 
-double InLayerModulusSensitivity(double poisson) {
-  // In units of mu: the eMSM stiffness tensor's normal block, the direct springs' (C_1111 = 3,
-  // C_1122 = 1) plus the dispersion's lambda - 1 on every entry.
-  const double lambda = 2.0 * poisson / (1.0 - 2.0 * poisson);
-  Eigen::Matrix3d bulk = Eigen::Matrix3d::Constant(lambda - 1.0);
-  bulk += (Eigen::Matrix3d() << 3, 1, 1, 1, 3, 1, 1, 1, 3).finished();
-  // A_x, A_y: mu each in C_1111, C_2222; B_xy: mu in C_1111, C_2222, C_1122.
-  const Eigen::Matrix3d in_layer = (Eigen::Matrix3d() << 2, 1, 0, 1, 2, 0, 0, 0, 0).finished();
-  // E_layer = 1 / S_11 with S = C^-1; dS = -S dC S, so dE / E = (S dC S)_11 / S_11.
-  const Eigen::Matrix3d compliance = bulk.inverse();
-  return (compliance * in_layer * compliance)(0, 0) / compliance(0, 0);
-}
+double DiagonalIncrementRatio(double poisson) { return poisson / (1.0 - poisson); }
 
 std::optional<FreeFaceBending> FreeFaceBending::ForBox(const std::vector<Eigen::Vector3i>& coords,
                                                        double poisson) {
@@ -42,7 +27,7 @@ std::optional<FreeFaceBending> FreeFaceBending::ForBox(const std::vector<Eigen::
   FreeFaceBending out;
   out.lo_ = lo;
   out.layers_ = layers;
-  const double c = InLayerModulusSensitivity(poisson);
+  const double b_share = DiagonalIncrementRatio(poisson);
   for (int axis = 0; axis < 3; ++axis) {
     const int n = layers[axis];
     // Fewer than 4 layers: the interior (one layer at the axis, or none) cannot take the
@@ -52,30 +37,38 @@ std::optional<FreeFaceBending> FreeFaceBending::ForBox(const std::vector<Eigen::
     const double sum_all = n * (static_cast<double>(n) * n - 1.0) / 12.0;
     const double sum_interior = sum_all - 2.0 * z_outer * z_outer;
     const double s = 2.0 * z_outer * z_outer - (2.0 / (n - 2)) * sum_interior;
-    out.alpha_[axis] = FreeFaceBendingDeficit(n) * n * n * n / (12.0 * c * s);
+    // The outer layers' moment E alpha_A / 2 a S(n) a^2 per unit curvature and width puts back
+    // deficit(n) E I = deficit(n) E (n a)^3 / 12.
+    out.alpha_[axis] = FreeFaceBendingDeficit(n) * n * n * n / (6.0 * s);
+    out.alpha_b_[axis] = b_share * out.alpha_[axis];
+    // Every factor must stay positive (alpha_A = 1/2 at n = 4, 0.2 at n = 10; alpha_B lies
+    // between -alpha_A / 2 and alpha_A for -1 < nu < 1/2).
+    for (const double alpha : {out.alpha_[axis], out.alpha_b_[axis]}) {
+      if (out.LayerFactor(axis, 0, alpha) <= 0.0 || out.LayerFactor(axis, 1, alpha) <= 0.0) {
+        return std::nullopt;
+      }
+    }
   }
   if (out.alpha_.isZero()) return std::nullopt;
-  // The softest spring lies in interior layers of two axes.
-  Eigen::Vector3d decrement;
-  for (int axis = 0; axis < 3; ++axis) decrement[axis] = out.InteriorDecrement(axis);
-  std::sort(decrement.data(), decrement.data() + 3);
-  if (1.0 - decrement[1] - decrement[2] <= 0.0) return std::nullopt;
   return out;
 }
 
 double FreeFaceBending::Factor(const Eigen::Vector3i& from, const Eigen::Vector3i& d) const {
+  // A spring lies in the layers of the axes along which it does not move: an A spring in two, a
+  // B spring in one, a body diagonal in none.
+  const bool b_spring = d.cwiseAbs().sum() == 2;
   double factor = 1.0;
   for (int axis = 0; axis < 3; ++axis) {
-    if (alpha_[axis] == 0.0 || d[axis] != 0) continue;  // not lying in a layer of this axis
-    const int layer = from[axis] - lo_[axis];
-    const bool outer = layer == 0 || layer == layers_[axis] - 1;
-    factor += outer ? alpha_[axis] : -InteriorDecrement(axis);
+    if (alpha_[axis] == 0.0 || d[axis] != 0) continue;
+    factor *= LayerFactor(axis, from[axis] - lo_[axis], b_spring ? alpha_b_[axis] : alpha_[axis]);
   }
   return factor;
 }
 
-double FreeFaceBending::InteriorDecrement(int axis) const {
-  return alpha_[axis] == 0.0 ? 0.0 : 2.0 * alpha_[axis] / (layers_[axis] - 2);
+double FreeFaceBending::LayerFactor(int axis, int layer, double alpha) const {
+  const int n = layers_[axis];
+  const bool outer = layer == 0 || layer == n - 1;
+  return outer ? 1.0 + alpha : 1.0 - 2.0 * alpha / (n - 2);
 }
 
 }  // namespace lattice

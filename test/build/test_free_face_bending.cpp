@@ -15,8 +15,8 @@
 namespace msm_sim::core {
 namespace {
 
+using lattice::DiagonalIncrementRatio;
 using lattice::FreeFaceBending;
-using lattice::InLayerModulusSensitivity;
 
 Model Box(double poisson, const Eigen::Vector3i& cells, bool correct, double angle = 0.0) {
   CubicLatticeOptions options;
@@ -70,11 +70,29 @@ TEST(FreeFaceBending, DeficitIsTheUncorrectedLatticesMidpointSum) {
 // cancels the direct springs' lateral coupling and the in-layer springs' 2 mu alpha over E = 2 mu
 // give 1; at nu = 1/4 (no dispersion, C = mu [[3,1,1],[1,3,1],[1,1,3]]) 0.65; it tends to 1/2 as
 // nu -> 1/2, which keeps alpha below 1/2 at 4 cells across.
-TEST(FreeFaceBending, InLayerModulusSensitivityMatchesTheHandValues) {
-  EXPECT_NEAR(InLayerModulusSensitivity(0.0), 1.0, 1e-12);
-  EXPECT_NEAR(InLayerModulusSensitivity(0.25), 0.65, 1e-12);
-  EXPECT_NEAR(InLayerModulusSensitivity(0.4999), 0.5, 1e-4);
-  EXPECT_GT(InLayerModulusSensitivity(0.4999), 0.5);
+TEST(FreeFaceBending, AddedLayerSpringsCarryNoLateralStressUnderUniaxialStress) {
+  // The springs lying in a layer normal to y, per cell of a lattice with spacing a and kappa =
+  // mu a: A springs along x and z (k L^2 = mu a^3), B springs (1, 0, +-1) (k L^2 = 2 mu a^3),
+  // scaled by alpha_A and alpha_B. Their stress under the body's uniaxial-stress strain
+  // diag(1, -nu, -nu) eps: C_ijkl eps_kl with C = sum alpha k L^2 u u u u / a^3.
+  for (const double poisson : {-0.5, 0.0, 0.25, 0.45, 0.49}) {
+    const double mu = 1.0, alpha_a = 0.3, alpha_b = alpha_a * DiagonalIncrementRatio(poisson);
+    const Eigen::Vector3d strain(1.0, -poisson, -poisson);  // eps = 1
+    Eigen::Vector3d stress = Eigen::Vector3d::Zero();
+    const auto add = [&](const Eigen::Vector3d& d, double k_l2, double alpha) {
+      const Eigen::Vector3d u = d.normalized();
+      const double stretch = u.cwiseProduct(u).dot(strain);  // u . eps u
+      stress += alpha * k_l2 * stretch * u.cwiseProduct(u);
+    };
+    add({1, 0, 0}, mu, alpha_a);
+    add({0, 0, 1}, mu, alpha_a);
+    add({1, 0, 1}, 2.0 * mu, alpha_b);
+    add({1, 0, -1}, 2.0 * mu, alpha_b);
+    EXPECT_NEAR(stress.z(), 0.0, 1e-14) << poisson;
+    EXPECT_NEAR(stress.y(), 0.0, 1e-14) << poisson;
+    const double youngs = 2.0 * mu * (1.0 + poisson);
+    EXPECT_NEAR(stress.x(), 0.5 * alpha_a * youngs, 1e-14) << poisson;
+  }
 }
 
 // The correction moves stiffness from the interior layers to the outer ones without changing
@@ -109,9 +127,10 @@ TEST(FreeFaceBending, KeepsTheStiffnessTensorAndTheDispersion) {
   }
 }
 
-// Where the stiffness goes: a spring lying in an outer layer of one axis gains alpha, in an
-// interior layer it loses 2 alpha / (n - 2), in layers of two axes it takes both; alpha puts
-// back the deficit through the layer sensitivity c: alpha c S(n) = deficit n^3 / 12.
+// Where the stiffness goes: an A spring lying in an outer layer of one axis gains alpha_A, in an
+// interior layer it loses 2 alpha_A / (n - 2), in layers of two axes it takes the product of
+// both factors; B springs the same with alpha_B = alpha_A nu / (1 - nu). alpha_A puts back the
+// deficit at the outer layers' modulus gain E alpha_A / 2: alpha_A S(n) / 2 = deficit n^3 / 12.
 TEST(FreeFaceBending, FactorsByLayer) {
   std::vector<Eigen::Vector3i> cells;
   for (int k = 0; k < 4; ++k)
@@ -122,15 +141,23 @@ TEST(FreeFaceBending, FactorsByLayer) {
   const Eigen::Vector3d alpha = bending->alpha();
   EXPECT_EQ(alpha.x(), 0.0);  // 3 layers: not corrected
   // n = 4: z_k = +-1.5, +-0.5; S = 2 (2.25) - (2 / 2) 2 (0.25) = 4.
-  EXPECT_NEAR(alpha.z(), FreeFaceBendingDeficit(4) * 64.0 / (12.0 * 0.65 * 4.0), 1e-12);
+  EXPECT_NEAR(alpha.z(), FreeFaceBendingDeficit(4) * 64.0 / (6.0 * 4.0), 1e-12);  // 1/2
   // n = 6: z = +-2.5, +-1.5, +-0.5; S = 2 (6.25) - (2 / 4) 2 (2.25 + 0.25) = 10.
-  EXPECT_NEAR(alpha.y(), FreeFaceBendingDeficit(6) * 216.0 / (12.0 * 0.65 * 10.0), 1e-12);
+  EXPECT_NEAR(alpha.y(), FreeFaceBendingDeficit(6) * 216.0 / (6.0 * 10.0), 1e-12);
+  const Eigen::Vector3d alpha_b = bending->alpha_b();
+  EXPECT_NEAR(alpha_b.y(), alpha.y() / 3.0, 1e-15);  // nu / (1 - nu) at nu = 1/4
+  EXPECT_NEAR(alpha_b.z(), alpha.z() / 3.0, 1e-15);
   const Eigen::Vector3i along_x(1, 0, 0);
-  EXPECT_NEAR(bending->Factor({1, 0, 0}, along_x), 1.0 + alpha.y() + alpha.z(), 1e-15);
-  EXPECT_NEAR(bending->Factor({1, 2, 0}, along_x), 1.0 - alpha.y() / 2.0 + alpha.z(), 1e-15);
-  EXPECT_NEAR(bending->Factor({1, 2, 1}, along_x), 1.0 - alpha.y() / 2.0 - alpha.z(), 1e-15);
+  EXPECT_NEAR(bending->Factor({1, 0, 0}, along_x), (1.0 + alpha.y()) * (1.0 + alpha.z()), 1e-15);
+  EXPECT_NEAR(bending->Factor({1, 2, 0}, along_x), (1.0 - alpha.y() / 2.0) * (1.0 + alpha.z()),
+              1e-15);
+  EXPECT_NEAR(bending->Factor({1, 2, 1}, along_x), (1.0 - alpha.y() / 2.0) * (1.0 - alpha.z()),
+              1e-15);
   // A spring along z lies in layers of x (not corrected) and y only.
   EXPECT_NEAR(bending->Factor({1, 5, 0}, Eigen::Vector3i(0, 0, 1)), 1.0 + alpha.y(), 1e-15);
+  // B springs lie in one layer and take alpha_B.
+  EXPECT_NEAR(bending->Factor({1, 0, 0}, Eigen::Vector3i(1, 0, 1)), 1.0 + alpha_b.y(), 1e-15);
+  EXPECT_NEAR(bending->Factor({1, 3, 1}, Eigen::Vector3i(1, 1, 0)), 1.0 - alpha_b.z(), 1e-15);
   EXPECT_NEAR(bending->Factor({1, 5, 0}, Eigen::Vector3i(1, 1, 1)), 1.0, 1e-15);
 }
 
