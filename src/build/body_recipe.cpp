@@ -34,12 +34,13 @@ void Validate(const BodyRecipe& recipe) {
     throw std::invalid_argument("centre_box moves a box region; a solid stays in its own frame");
   }
   if (!recipe.anchored_planes.empty() &&
-      (recipe.solid || recipe.lattice != LatticeKind::kCubic ||
-       recipe.construction != CubicConstruction::kNodeCentred || AntiAliasesTheBox(recipe))) {
-    // Face anchors are built by the node-centred box builder only (BuildCubicLattice).
+      (recipe.lattice != LatticeKind::kCubic ||
+       recipe.construction != CubicConstruction::kNodeCentred || recipe.rotation_angle != 0.0)) {
+    // Face anchors are built by the node-centred builders (BuildCubicLattice,
+    // BuildCubicLatticeInSolid) on a lattice aligned with the body.
     throw std::invalid_argument(
-        "anchored planes (face clamps) need a node-centred cubic lattice in a box, not rotated "
-        "through the anti-aliased solid");
+        "anchored planes (face clamps) need a node-centred cubic lattice aligned with the body "
+        "(not rotated)");
   }
   if (recipe.free_face_bending && (recipe.lattice != LatticeKind::kCubic ||
                                    recipe.construction != CubicConstruction::kNodeCentred)) {
@@ -74,15 +75,6 @@ void CheckSiteCount(const BodyRecipe& recipe, double spacing) {
   }
 }
 
-// A target node count fixes the spacing: N = V / a^3.
-double Spacing(const BodyRecipe& recipe) {
-  if (recipe.target_nodes <= 0) return recipe.spacing;
-  const double volume = recipe.target_volume > 0.0 ? recipe.target_volume
-                        : recipe.solid             ? recipe.solid->volume()
-                                                   : recipe.box_size.prod();
-  return std::cbrt(volume / recipe.target_nodes);
-}
-
 RandomLatticeOptions RandomOptions(const BodyRecipe& recipe, double spacing) {
   RandomLatticeOptions options;
   options.size = recipe.box_size;
@@ -105,6 +97,7 @@ Model BuildInSolid(const BodyRecipe& recipe, double spacing) {
   options.spacing = spacing;
   options.antialias = recipe.antialias;
   options.free_face_bending = recipe.free_face_bending;
+  options.anchored_planes = recipe.anchored_planes;
   options.spring_law = recipe.spring_law;
   options.rotation_axis = recipe.rotation_axis;
   options.rotation_angle = recipe.rotation_angle;
@@ -197,9 +190,18 @@ const std::vector<std::string>& LatticeKindNames() {
   return names;
 }
 
+// A target node count fixes the spacing: N = V / a^3.
+double RecipeSpacing(const BodyRecipe& recipe) {
+  if (recipe.target_nodes <= 0) return recipe.spacing;
+  const double volume = recipe.target_volume > 0.0 ? recipe.target_volume
+                        : recipe.solid             ? recipe.solid->volume()
+                                                   : recipe.box_size.prod();
+  return std::cbrt(volume / recipe.target_nodes);
+}
+
 Model BuildModel(const BodyRecipe& recipe) {
   Validate(recipe);
-  const double spacing = Spacing(recipe);
+  const double spacing = RecipeSpacing(recipe);
   if (recipe.target_nodes == 0) CheckSiteCount(recipe, spacing);
   if (recipe.solid) return BuildInSolid(recipe, spacing);
   if (!recipe.centre_box) return BuildInBox(recipe, spacing);

@@ -102,11 +102,7 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
 
 Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& options) {
   Validate(Box(options));
-  for (const AnchoredPlane& plane : options.anchored_planes) {
-    if (!plane.point.allFinite() || !plane.normal.allFinite() || plane.normal.norm() == 0.0) {
-      throw std::invalid_argument("an anchored plane needs a finite point and a non-zero normal");
-    }
-  }
+  lattice::ValidateAnchoredPlanes(options.anchored_planes);
   if (!options.anchored_planes.empty() && options.construction != CubicConstruction::kNodeCentred) {
     // Element-corner nodes already lie on the surface: freezing them clamps the face.
     throw std::invalid_argument("anchored planes need the node-centred construction");

@@ -21,6 +21,10 @@ void Validate(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
   BoxLattice box{solid.max_corner() - solid.min_corner(), options.spacing, options.rotation_axis,
                  options.rotation_angle, options.max_nodes};
   Validate(box);
+  lattice::ValidateAnchoredPlanes(options.anchored_planes);
+  if (!options.anchored_planes.empty() && options.rotation_angle != 0.0) {
+    throw std::invalid_argument("anchored planes need a lattice aligned with the solid's frame");
+  }
   if (!(options.min_fraction >= 0.0 && options.min_fraction < 1.0)) {
     throw std::invalid_argument("minimum cell fraction must lie in [0, 1), got " +
                                 std::to_string(options.min_fraction));
@@ -174,8 +178,8 @@ Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options) {
   Validate(solid, options);
   return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options),
-                               options.compensate_surface, options.spring_law, {},
-                               options.free_face_bending);
+                               options.compensate_surface, options.spring_law,
+                               options.anchored_planes, options.free_face_bending);
 }
 
 }  // namespace msm_sim::core

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <tuple>
 #include <vector>
 
@@ -197,6 +198,14 @@ std::optional<FreeFaceBending> FreeFaceBendingOf(const OccupiedCells& cells, dou
 }
 
 }  // namespace
+
+void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored) {
+  for (const AnchoredPlane& plane : anchored) {
+    if (!plane.point.allFinite() || !plane.normal.allFinite() || plane.normal.norm() == 0.0) {
+      throw std::invalid_argument("an anchored plane needs a finite point and a non-zero normal");
+    }
+  }
+}
 
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
                             bool compensate_surface, SpringLaw spring_law,

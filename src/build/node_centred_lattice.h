@@ -24,6 +24,10 @@ struct OccupiedCells {
   std::vector<double> fractions;  ///< chi in (0, 1], same order as coords
 };
 
+/// Throws std::invalid_argument for an anchored plane with a non-finite point or normal, or a
+/// zero normal.
+void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored);
+
 /// Builds the calibrated node-centred model: a node at each cell centre with mass rho a^3 chi,
 /// A+B springs k = (kappa / 2)(chi_i + chi_j) with kappa = mu a (each end cell contributes the
 /// half of the spring that lies in it, weighted by how much of that cell is body), eMSM

@@ -45,9 +45,16 @@ World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> bod
     evaluator.set_orientation_barrier(std::make_shared<const OrientationBarrier>(
         *model, modulus, body_options.orientation_threshold));
   }
+  UpdateStableStep(world_options);
+}
+
+void World::Body::UpdateStableStep(const WorldOptions& world_options) {
   StableTimeStepOptions step;
-  step.damping_beta = body_options.damping_beta;
+  step.damping_beta = options.damping_beta;
   step.safety = world_options.time_step_safety;
+  for (NodeIndex node = 0; node < static_cast<NodeIndex>(constrained.size()); ++node) {
+    if (constrained[node]) step.fixed_nodes.push_back(node);
+  }
   stable_step = StableTimeStep(*model, step);
 }
 
@@ -158,6 +165,9 @@ int World::AddKinematicGroup(int body_index, const KinematicGroup& group) {
   added.initial_pose = pose;
   body.groups.push_back(std::move(added));
   body.wrenches.push_back(ContactWrench{});
+  // Fixed and driven nodes are not integrated: they no longer limit the step (face anchors'
+  // token masses would).
+  body.UpdateStableStep(options_);
   return static_cast<int>(body.groups.size()) - 1;
 }
 
@@ -223,6 +233,7 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
   body.pending = old.pending;
   body.pair_friction = old.pair_friction;
   body.wrenches = old.wrenches;
+  if (!body.groups.empty()) body.UpdateStableStep(options_);
   bodies_[body_index] = std::move(body);
 }
 

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -24,14 +25,31 @@ void Validate(const StableTimeStepOptions& options) {
   }
 }
 
+// 1 for a node that moves, 0 for a fixed one, as a row to scale the 3 x N vectors with.
+Eigen::Array<double, 1, Eigen::Dynamic> FreeMask(const Model& model,
+                                                 const std::vector<NodeIndex>& fixed_nodes) {
+  Eigen::Array<double, 1, Eigen::Dynamic> free =
+      Eigen::Array<double, 1, Eigen::Dynamic>::Ones(model.num_nodes());
+  for (const NodeIndex node : fixed_nodes) {
+    if (node < 0 || node >= model.num_nodes()) {
+      throw std::invalid_argument("stable time step: fixed node " + std::to_string(node) +
+                                  " is not a node of the model");
+    }
+    free[node] = 0.0;
+  }
+  return free;
+}
+
 // y = A x for a symmetric 3 x N operator.
 using Operator = std::function<void(const Eigen::Matrix3Xd&, Eigen::Matrix3Xd*)>;
 
-// M^-1/2 B M^-1/2 applied matrix-free for an operator B (K or the dampers' matrix); the
+// M^-1/2 B M^-1/2 applied matrix-free for an operator B (K or the dampers' matrix), restricted
+// to the free nodes (`free` is 1 for those, 0 for fixed ones: rows and columns dropped); the
 // eigenvalues of M^-1/2 K M^-1/2 are the squared angular frequencies.
-Operator MassScaled(Operator b, const Eigen::VectorXd& masses) {
+Operator MassScaled(Operator b, const Eigen::VectorXd& masses,
+                    const Eigen::Array<double, 1, Eigen::Dynamic>& free) {
   const Eigen::Array<double, 1, Eigen::Dynamic> inverse_sqrt_mass =
-      masses.transpose().array().rsqrt();
+      masses.transpose().array().rsqrt() * free;
   return [b = std::move(b), inverse_sqrt_mass](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
     const Eigen::Matrix3Xd scaled = v.array().rowwise() * inverse_sqrt_mass;
     b(scaled, out);
@@ -158,18 +176,24 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
   if (model.num_springs() == 0) return std::numeric_limits<double>::infinity();
   ForceEvaluator evaluator(model);
   evaluator.Linearize(model.rest_positions());
+  const Eigen::Array<double, 1, Eigen::Dynamic> free = FreeMask(model, options.fixed_nodes);
+  if ((free == 0.0).all()) return std::numeric_limits<double>::infinity();
   const Operator stiffness =
       MassScaled([&evaluator](const Eigen::Matrix3Xd& v,
                               Eigen::Matrix3Xd* out) { evaluator.ApplyStiffness(v, out); },
-                 model.masses());
-  const Eigen::Matrix3Xd start = AlternatingStart(model.num_nodes());
+                 model.masses(), free);
+  Eigen::Matrix3Xd start = AlternatingStart(model.num_nodes());
+  if (!options.fixed_nodes.empty()) {
+    start = (start.array().rowwise() * free).matrix();
+    start /= start.norm();
+  }
   const double lambda = evaluator.stiffness_is_symmetric()
                             ? LargestEigenvalueByRayleighRitz(stiffness, start)
                             : LargestEigenvalueByPowerIteration(stiffness, start);
   const double lambda_damper =
-      options.damping_beta > 0.0
-          ? LargestEigenvalueByRayleighRitz(MassScaled(DamperMatrix(model), model.masses()), start)
-          : 0.0;
+      options.damping_beta > 0.0 ? LargestEigenvalueByRayleighRitz(
+                                       MassScaled(DamperMatrix(model), model.masses(), free), start)
+                                 : 0.0;
   return StepForLargestEigenvalues(lambda, lambda_damper, model.spring_law(), options);
 }
 

@@ -182,6 +182,47 @@ TEST(World, ClampReactionBalancesAStaticPush) {
   EXPECT_EQ(events % static_cast<int>(clamp.nodes.size()), 0);
 }
 
+// A block clamped at its base face (face anchors, AnchoredPlane) rather than at its bottom node
+// layer: the anchors' token masses leave the stable step once the clamp holds them, the
+// reaction balances a static push and the weight, and the anchors stay on the face.
+TEST(World, FaceAnchoredClampBalancesAStaticPush) {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d(0.2, 0.2, 0.2);
+  lattice.spacing = 0.04;
+  lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
+  const auto block = std::make_shared<const Model>(
+      BuildCubicLattice(Material::FromYoungsPoisson(5e4, 0.3, 1000.0), lattice));
+  const std::vector<NodeIndex> anchors = AnchorNodes(*block, lattice.anchored_planes[0]);
+  ASSERT_EQ(anchors.size(), 25u + 2u * 5u * 6u);
+  World world;
+  BodyOptions options;
+  options.damping_beta = 0.01;
+  const int body = world.AddBody("block", block, options);
+  const double counting_anchors = world.stable_time_step();
+  world.AddKinematicGroup(body, KinematicGroup{"base", anchors, {}});
+  StableTimeStepOptions step;
+  step.damping_beta = options.damping_beta;
+  step.safety = WorldOptions{}.time_step_safety;
+  step.fixed_nodes = anchors;
+  EXPECT_DOUBLE_EQ(world.stable_time_step(), StableTimeStep(*block, step));
+  EXPECT_GT(world.stable_time_step(), 300.0 * counting_anchors);
+
+  const Eigen::Vector3d push(3.0, 0.0, -20.0);
+  world.ApplyForce(body, Eigen::Vector3d(0.1, 0.1, 0.18), push, 0.03, 10.0);
+  for (int i = 0; i < 1500; ++i) ASSERT_TRUE(world.Step(1e-3).accepted);
+  Eigen::Vector3d on_clamp = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 200; ++i) {
+    ASSERT_TRUE(world.Step(1e-3).accepted);
+    on_clamp += world.wrenches(body).back().force / 200;
+  }
+  const Eigen::Vector3d expected = push + block->masses().sum() * Eigen::Vector3d(0, 0, -9.81);
+  EXPECT_LT((on_clamp - expected).norm(), 0.02 * expected.norm())
+      << on_clamp.transpose() << " vs " << expected.transpose();
+  for (const NodeIndex anchor : anchors) {
+    EXPECT_EQ(world.state(body).positions.col(anchor), block->rest_positions().col(anchor));
+  }
+}
+
 TEST(World, KinematicGroupsFollowTheirFrame) {
   World world(WorldOptions{Eigen::Vector3d::Zero()});
   const auto block = Block();

@@ -1,6 +1,8 @@
 // The explicit step against the spectral radius of position Verlet's one-step map, formed
 // densely from K and the dampers' C on small blocks.
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -48,15 +50,15 @@ Eigen::MatrixXd DenseDampers(const Model& model, double beta) {
 }
 
 // Spectral radius of the map (x, v) -> (x', v') of one substep: drift h/2, kick with the forces
-// -K x - C v at the drifted positions and the start velocities, drift h/2 (World::Substep). The
-// bottom layer's nodes are held, which removes the rigid-body modes: their eigenvalue 1 is
+// -K x - C v at the drifted positions and the start velocities, drift h/2 (World::Substep), for
+// the nodes not `held`. Holding some removes the rigid-body modes: their eigenvalue 1 is
 // defective (x grows linearly at constant v) and rounding would put it a little above 1.
-double SpectralRadius(const Model& model, const Eigen::MatrixXd& full_k,
-                      const Eigen::MatrixXd& full_c, double h, bool hold_bottom = true) {
-  const double bottom = model.rest_positions().row(2).minCoeff();
+double SpectralRadiusHolding(const Model& model, const Eigen::MatrixXd& full_k,
+                             const Eigen::MatrixXd& full_c, double h,
+                             const std::vector<bool>& held) {
   std::vector<int> free;
   for (int dof = 0; dof < full_k.rows(); ++dof) {
-    if (!hold_bottom || model.rest_positions()(2, dof / 3) > bottom + 1e-9) free.push_back(dof);
+    if (!held[dof / 3]) free.push_back(dof);
   }
   const int n = static_cast<int>(free.size());
   Eigen::MatrixXd k(n, n), c(n, n);
@@ -76,6 +78,17 @@ double SpectralRadius(const Model& model, const Eigen::MatrixXd& full_k,
   kick.bottomRightCorner(n, n) = identity - h * inverse_mass.asDiagonal() * c;
   const Eigen::MatrixXd map = drift * kick * drift;
   return Eigen::EigenSolver<Eigen::MatrixXd>(map, false).eigenvalues().cwiseAbs().maxCoeff();
+}
+
+// The same with the bottom layer's nodes held (or none).
+double SpectralRadius(const Model& model, const Eigen::MatrixXd& full_k,
+                      const Eigen::MatrixXd& full_c, double h, bool hold_bottom = true) {
+  const double bottom = model.rest_positions().row(2).minCoeff();
+  std::vector<bool> held(model.num_nodes(), false);
+  for (int i = 0; i < model.num_nodes(); ++i) {
+    held[i] = hold_bottom && model.rest_positions()(2, i) <= bottom + 1e-9;
+  }
+  return SpectralRadiusHolding(model, full_k, full_c, h, held);
 }
 
 Model SmallBlock(double poisson) {
@@ -120,6 +133,40 @@ TEST_P(StableTimeStepDampers, TheStepIsStableWithStrongDampers) {
 
 INSTANTIATE_TEST_SUITE_P(PlainAndDispersed, StableTimeStepDampers,
                          ::testing::Values(0.25, 0.45, 0.49));
+
+// Fixed nodes do not limit the step: a block whose base face is anchored (anchors of a token
+// 1e-6 of a cell's mass, AnchoredPlane) has, counting the anchors, a step a thousand times too
+// short; with them fixed, the step of the free nodes, which the Verlet map with the anchors held
+// confirms: stable just inside it, unstable a little beyond.
+TEST(StableTimeStep, FixedNodesAreLeftOut) {
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d(0.2, 0.15, 0.1);
+  lattice.spacing = 0.05;
+  lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
+  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), lattice);
+  const std::vector<NodeIndex> anchors = AnchorNodes(model, lattice.anchored_planes[0]);
+  ASSERT_EQ(anchors.size(), 4u * 3u + 4u * 4u + 3u * 5u);  // A springs; diagonals per pair
+  StableTimeStepOptions options;
+  options.safety = 1.0;
+  const double counting_anchors = StableTimeStep(model, options);
+  options.fixed_nodes = anchors;
+  const double h = StableTimeStep(model, options);
+  EXPECT_GT(h, 300.0 * counting_anchors);
+  std::vector<bool> held(model.num_nodes(), false);
+  for (const NodeIndex anchor : anchors) held[anchor] = true;
+  const Eigen::MatrixXd k = DenseStiffness(model);
+  const Eigen::MatrixXd c = DenseDampers(model, 0.0);
+  EXPECT_LE(SpectralRadiusHolding(model, k, c, 0.98 * h, held), 1.0 + 1e-9);
+  EXPECT_GT(SpectralRadiusHolding(model, k, c, 1.05 * h, held), 1.0 + 1e-3);
+
+  // Every node fixed: nothing moves, nothing limits the step. A node the model does not have is
+  // refused.
+  options.fixed_nodes.resize(model.num_nodes());
+  for (int i = 0; i < model.num_nodes(); ++i) options.fixed_nodes[i] = i;
+  EXPECT_EQ(StableTimeStep(model, options), std::numeric_limits<double>::infinity());
+  options.fixed_nodes = {model.num_nodes()};
+  EXPECT_THROW(StableTimeStep(model, options), std::invalid_argument);
+}
 
 }  // namespace
 }  // namespace msm_sim::core

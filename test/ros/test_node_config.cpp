@@ -1,13 +1,17 @@
 // The node's configuration reading (LoadSimulationConfig against the parameter server):
 // valid values are read, each bad one is a ConfigError naming the parameter. Part of
 // test_msm_sim_node (main is in test_msm_sim_node.cpp).
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "msm_sim/build/cubic_lattice_builder.h"
 #include "node_test_support.h"
+#include "object_builder.h"
 #include "simulation_config.h"
 
 namespace {
@@ -162,6 +166,83 @@ TEST(BadConfig, NamesTheParameter) {
   ros::NodeHandle("/empty_scene").deleteParam("");
   EXPECT_THROW(msm_sim::ros_interface::LoadSimulationConfig(ros::NodeHandle("/empty_scene")),
                msm_sim::ros_interface::ConfigError);
+}
+
+// A cantilever object 0.2 x 0.05 x 0.05 m at 4 cells across, posed in the world (turned about z,
+// lifted), with one half-space clamp given in the world frame.
+msm_sim::ros_interface::ObjectConfig CantileverObject(const Eigen::Vector3d& clamp_point,
+                                                      const Eigen::Vector3d& clamp_normal) {
+  msm_sim::ros_interface::ObjectConfig config;
+  config.name = "beam";
+  config.shape.kind = msm_sim::core::BodyShape::Kind::kBox;
+  config.shape.size = Eigen::Vector3d(0.2, 0.05, 0.05);
+  config.spacing = 0.0125;
+  config.youngs = 120e3;
+  config.poisson = 0.25;
+  config.density = 1000.0;
+  config.pose.translate(Eigen::Vector3d(0.3, -0.1, 0.2));
+  config.pose.rotate(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()));
+  msm_sim::ros_interface::ClampConfig clamp;
+  clamp.name = "wall";
+  clamp.is_box = false;
+  clamp.point = config.pose * clamp_point;
+  clamp.normal = config.pose.linear() * clamp_normal;
+  config.clamps.push_back(clamp);
+  return config;
+}
+
+// A half-space clamp whose plane is a face of a cubic box clamps that face as FEM does (docs/
+// physics.md §2.1 "Face anchors"): the object is the lab's anchored cantilever, whose end face
+// test_cantilever_faces.cpp holds within 3 % of CalculiX, and the clamp holds its anchors.
+TEST(ObjectConfig, HalfSpaceOnABoxFaceAnchorsTheFace) {
+  using msm_sim::core::AnchoredPlane;
+  const auto config = CantileverObject(Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d::UnitX());
+  const auto built = msm_sim::ros_interface::BuildObject(config, "~objects[0]");
+  msm_sim::core::CubicLatticeOptions lattice;
+  lattice.size = config.shape.size;
+  lattice.spacing = config.spacing;
+  lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitX()}};
+  const msm_sim::core::Model lab = msm_sim::core::BuildCubicLattice(
+      msm_sim::core::Material::FromYoungsPoisson(120e3, 0.25, 1000.0), lattice);
+  const msm_sim::core::Model& node = *built.model;
+  ASSERT_EQ(node.num_nodes(), lab.num_nodes());
+  ASSERT_EQ(node.num_springs(), lab.num_springs());
+  std::vector<double> k_node = node.spring_stiffness(), k_lab = lab.spring_stiffness();
+  std::sort(k_node.begin(), k_node.end());
+  std::sort(k_lab.begin(), k_lab.end());
+  for (std::size_t s = 0; s < k_lab.size(); ++s) EXPECT_NEAR(k_node[s], k_lab[s], 1e-6 * k_lab[s]);
+  // The clamp holds exactly the anchors on the face x = -L/2 of the posed object.
+  ASSERT_EQ(built.clamps.size(), 1u);
+  const std::vector<msm_sim::core::NodeIndex>& held = built.clamps[0].second;
+  EXPECT_EQ(held.size(), msm_sim::core::AnchorNodes(lab, lattice.anchored_planes[0]).size());
+  EXPECT_EQ(held.size(), 4u * 4u + 2u * 4u * 5u);
+  for (const msm_sim::core::NodeIndex i : held) {
+    const Eigen::Vector3d local =
+        config.pose.inverse() * Eigen::Vector3d(node.rest_positions().col(i));
+    EXPECT_NEAR(local.x(), -0.1, 1e-12);
+  }
+}
+
+// A half-space inside the body holds the nodes behind its plane, as before, and adds no anchor;
+// a face of a box that is not a whole number of spacings across cannot be anchored: the clamp
+// holds no node and the error says why and what to change.
+TEST(ObjectConfig, OtherHalfSpacesHoldTheirNodes) {
+  const auto inside = CantileverObject(Eigen::Vector3d(-0.09, 0.0, 0.0), Eigen::Vector3d::UnitX());
+  const auto built = msm_sim::ros_interface::BuildObject(inside, "~objects[0]");
+  EXPECT_EQ(built.model->num_nodes(), 16 * 4 * 4);
+  EXPECT_EQ(built.clamps[0].second.size(), 16u);  // the layer at x = -L/2 + a/2
+  auto uneven = CantileverObject(Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d::UnitX());
+  uneven.spacing = 0.012;
+  try {
+    msm_sim::ros_interface::BuildObject(uneven, "~objects[0]");
+    ADD_FAILURE() << "a face clamp on 0.2 / 0.012 cells was accepted";
+  } catch (const msm_sim::ros_interface::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("~objects[0]/clamps[0]: clamp 'wall' holds no node"), std::string::npos)
+        << what;
+    EXPECT_NE(what.find("not a whole number of spacings"), std::string::npos) << what;
+    EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+  }
 }
 
 }  // namespace

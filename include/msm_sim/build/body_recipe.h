@@ -87,9 +87,10 @@ struct BodyRecipe {
   /// as a solid): docs/physics.md §5 anti-aliasing (cells weighted by the fraction inside the
   /// surface). Default on.
   bool antialias = true;
-  /// Node-centred cubic lattice in a box (not rotated through the anti-aliased solid): surface
-  /// planes held by face anchors (AnchoredPlane, AnchorNodes), in the box's frame [0, box_size]
-  /// (centre_box then moves the anchors with the body). Default none; refused for other lattices.
+  /// Node-centred cubic lattice aligned with the body (not rotated), in a box or a solid: surface
+  /// planes held by face anchors (AnchoredPlane, AnchorNodes), in the region's frame (a box's
+  /// [0, box_size]; centre_box then moves the anchors with the body). Default none; refused for
+  /// other lattices and rotated ones.
   std::vector<AnchoredPlane> anchored_planes;
   /// Node-centred cubic: the free faces' bending correction (CubicLatticeOptions::
   /// free_face_bending); it applies when the lattice's cells fill a box (an unrotated box, or a
@@ -107,6 +108,10 @@ struct BodyRecipe {
   /// (RandomLatticeOptions::self_calibrate, docs/physics.md §2.2). Default off.
   bool random_self_calibrate = false;
 };
+
+/// The spacing BuildModel uses: `spacing`, or with target_nodes > 0 cbrt(V / target_nodes) for
+/// the volume V that target_nodes divides (target_volume, else the region's own). Not validated.
+double RecipeSpacing(const BodyRecipe& recipe);
 
 /// Builds the recipe's model: the lattice's builder with the recipe's options, in the region's
 /// frame (moved by -box_size / 2 with centre_box).

@@ -49,11 +49,12 @@ struct CubicLatticeOptions {
   /// miss (docs/physics.md §2.1 "Free faces in bending"): along each axis at least 4 cells
   /// across, the springs lying in the two outer layers are stiffened and those lying in the
   /// interior layers softened so that every layer keeps its summed stiffness (the block's
-  /// stiffness tensor is unchanged). A cantilever 8 cells across bends within 1.1 % of CalculiX
-  /// instead of 6 % too much. The price: a skin stiffer in its own plane, which changes contacts
-  /// on coarse lattices, and free edges that move a compression test 10 cells across by 0.2-0.4
-  /// points of E; hence off by default. Applies to unrotated boxes (rotated lattices do not fill
-  /// a box of cells).
+  /// stiffness tensor is unchanged). A cantilever 4 or 8 cells across bends within 2 % of
+  /// CalculiX instead of 6-24 % too much. The price: a skin stiffer in its own plane, which
+  /// changes contacts on coarse lattices, and interior layers softer in theirs, which a block
+  /// compressed across them sees through its lateral expansion (10 cells across: E 0.1-0.3
+  /// points lower, at nu = 0.45 -1.05 % against -0.71 %); hence off by default. Applies to
+  /// unrotated boxes (rotated lattices do not fill a box of cells).
   bool free_face_bending = false;
   SpringLaw spring_law = SpringLaw::kLinear;
   /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs

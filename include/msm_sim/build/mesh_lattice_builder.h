@@ -1,7 +1,10 @@
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 
+#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/material/material.h"
 #include "msm_sim/material/spring_law.h"
@@ -26,6 +29,12 @@ struct MeshCubicLatticeOptions {
   double min_fraction = 0.1;
   /// Mirror the half-springs of missing neighbours (see BuildCubicLattice).
   bool compensate_surface = true;
+  /// Planes of the solid's surface held by face anchors (CubicLatticeOptions::anchored_planes), in
+  /// the solid's frame: every missing neighbour whose segment leaves the body through one gets an
+  /// anchor where it crosses. The caller must freeze them (AnchorNodes). For a plane on a face of
+  /// a box-shaped solid aligned with the lattice, whole cells along its normal (the nodes half a
+  /// cell inside) give the box builder's anchors. Unrotated lattices only.
+  std::vector<AnchoredPlane> anchored_planes;
   /// The free faces' bending correction (CubicLatticeOptions::free_face_bending); it applies only
   /// when the kept cells fill a box of whole cells (a box mesh aligned with the lattice).
   bool free_face_bending = false;
@@ -40,7 +49,8 @@ struct MeshCubicLatticeOptions {
 ///
 /// Throws std::invalid_argument for a non-positive or non-finite spacing, a spacing larger than
 /// the smallest bounding-box edge, min_fraction outside [0, 1), a bad
-/// rotation, no cell inside, or more than max_nodes nodes.
+/// rotation, anchored planes on a rotated lattice or with a non-finite point or zero normal, no
+/// cell inside, or more than max_nodes nodes.
 Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options);
 

@@ -180,6 +180,9 @@ class World {
     /// safety factor), the self-contact distance; the evaluator gets the World's thread count.
     Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
          const BodyOptions& body_options, const WorldOptions& world_options);
+    /// stable_step for the model without the constrained nodes (StableTimeStepOptions::
+    /// fixed_nodes): called again whenever the constrained nodes change.
+    void UpdateStableStep(const WorldOptions& world_options);
     std::string name;
     std::shared_ptr<const Model> model;
     BodyOptions options;
@@ -190,8 +193,8 @@ class World {
     std::vector<char> constrained;  // per node
     std::vector<Push> pushes;
     std::vector<PendingResponse> pending;
-    std::vector<double> pair_friction;  // per collider; < 0: default
-    double stable_step = 0.0;
+    std::vector<double> pair_friction;           // per collider; < 0: default
+    double stable_step = 0.0;                    // without the constrained nodes (UpdateStableStep)
     double self_contact_rest_distance_sq = 0.0;  // m^2
     Eigen::VectorXd inverse_masses;
     // During the current Step, noted only when a node breaks max_speed or a value is not

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -12,6 +14,11 @@ struct StableTimeStepOptions {
   /// Carrier springs stiffen under compression (tangent k (L0 / L)^2); the step stays stable
   /// for springs compressed down to this fraction of their rest length.
   double min_compression = 0.7;
+  /// Nodes that do not move (clamped or driven): the integrator never advances them, so their
+  /// masses do not limit the step; their rows and columns are left out of K and C. Face anchors
+  /// (AnchorNodes), whose token mass would otherwise give a step 10^3 times too short, must be
+  /// among them. Default none.
+  std::vector<NodeIndex> fixed_nodes;
 };
 
 /// Largest stable step (s) of the explicit integration of `model` (docs/physics.md §7).
@@ -35,8 +42,9 @@ struct StableTimeStepOptions {
 /// is not symmetric, does it fall back to power iteration (300 iterations at most), whose
 /// estimate approaches from below and is therefore raised by 5 % (x1.05). For carrier springs
 /// omega_max is also raised by the stiffening of springs compressed to min_compression. A model
-/// without springs gives +infinity. Throws std::invalid_argument for options out of range (safety
-/// in (0, 1], min_compression in (0, 1], damping >= 0).
+/// without springs, or whose nodes are all fixed, gives +infinity. Throws std::invalid_argument
+/// for options out of range (safety in (0, 1], min_compression in (0, 1], damping >= 0, fixed
+/// nodes that are not nodes of the model).
 double StableTimeStep(const Model& model, const StableTimeStepOptions& options = {});
 
 }  // namespace msm_sim::core
