@@ -35,7 +35,7 @@ class FreeFaceBending {
  public:
   /// The correction for `coords` (integer cell coordinates, unique), or none if the cells do not
   /// fill their bounding box (a mesh, a rotated lattice), no axis has 4 layers, or a layer's
-  /// factor would not stay positive (not for any -1 < nu < 1/2 with n >= 4).
+  /// factor would not stay positive (which no -1 < nu < 1/2 gives with n >= 4).
   static std::optional<FreeFaceBending> ForBox(const std::vector<Eigen::Vector3i>& coords,
                                                double poisson);
 
