@@ -52,10 +52,16 @@ void World::Body::UpdateStableStep(const WorldOptions& world_options) {
   StableTimeStepOptions step;
   step.damping_beta = options.damping_beta;
   step.safety = world_options.time_step_safety;
-  for (NodeIndex node = 0; node < static_cast<NodeIndex>(constrained.size()); ++node) {
-    if (constrained[node]) step.fixed_nodes.push_back(node);
-  }
+  step.fixed_nodes = ConstrainedNodes();
   stable_step = StableTimeStep(*model, step);
+}
+
+std::vector<NodeIndex> World::Body::ConstrainedNodes() const {
+  std::vector<NodeIndex> nodes;
+  for (NodeIndex node = 0; node < static_cast<NodeIndex>(constrained.size()); ++node) {
+    if (constrained[node]) nodes.push_back(node);
+  }
+  return nodes;
 }
 
 void World::ImpulseSum::Merge(const ImpulseSum& other) {

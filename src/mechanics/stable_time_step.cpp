@@ -173,11 +173,13 @@ double StepForLargestEigenvalues(double lambda, double lambda_damper, SpringLaw 
 double StableTimeStep(const Model& model, const StableTimeStepOptions& options) {
   Validate(options);
   // Free particles: nothing elastic limits the step.
-  if (model.num_springs() == 0) return std::numeric_limits<double>::infinity();
+  const Eigen::Array<double, 1, Eigen::Dynamic> free = FreeMask(model, options.fixed_nodes);
+  // Free particles, or nothing free to move: nothing elastic limits the step.
+  if (model.num_springs() == 0 || (free == 0.0).all()) {
+    return std::numeric_limits<double>::infinity();
+  }
   ForceEvaluator evaluator(model);
   evaluator.Linearize(model.rest_positions());
-  const Eigen::Array<double, 1, Eigen::Dynamic> free = FreeMask(model, options.fixed_nodes);
-  if ((free == 0.0).all()) return std::numeric_limits<double>::infinity();
   const Operator stiffness =
       MassScaled([&evaluator](const Eigen::Matrix3Xd& v,
                               Eigen::Matrix3Xd* out) { evaluator.ApplyStiffness(v, out); },

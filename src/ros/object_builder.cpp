@@ -87,12 +87,11 @@ core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& 
   return recipe;
 }
 
-// The object's model in the world frame.
+// The recipe's model in the world frame.
 std::shared_ptr<const core::Model> PlacedModel(const ObjectConfig& config,
-                                               const core::Material& material,
-                                               std::shared_ptr<const core::SolidMesh> solid) {
-  return std::make_shared<const core::Model>(core::TransformedModel(
-      core::BuildModel(ObjectRecipe(config, material, std::move(solid))), config.pose));
+                                               const core::BodyRecipe& recipe) {
+  return std::make_shared<const core::Model>(
+      core::TransformedModel(core::BuildModel(recipe), config.pose));
 }
 
 // The object's clamps; a clamp that holds no node is refused at its own parameter. A face clamp
@@ -132,8 +131,10 @@ void AddClamps(const ObjectConfig& config, double spacing, const std::string& pa
 
 std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
                                                     const core::Material& material) {
-  return PlacedModel(config, material,
-                     std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape)));
+  return PlacedModel(
+      config,
+      ObjectRecipe(config, material,
+                   std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape))));
 }
 
 BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {
@@ -141,8 +142,9 @@ BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {
     const core::Material material =
         core::Material::FromYoungsPoisson(config.youngs, config.poisson, config.density);
     const auto solid = std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape));
+    const core::BodyRecipe recipe = ObjectRecipe(config, material, solid);
     BuiltObject object;
-    object.model = PlacedModel(config, material, solid);
+    object.model = PlacedModel(config, recipe);
     if (!config.visual_mesh_path.empty()) {
       core::MeshImportOptions options;
       options.scale = config.visual_scale;
@@ -151,7 +153,7 @@ BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {
       object.surface = solid->surface();
     }
     object.surface.vertices = config.pose * object.surface.vertices;
-    AddClamps(config, core::RecipeSpacing(ObjectRecipe(config, material, solid)), path, &object);
+    AddClamps(config, core::RecipeSpacing(recipe), path, &object);
     return object;
   } catch (const ConfigError&) {
     throw;

@@ -88,7 +88,6 @@ void Simulation::AddObject(std::size_t index) {
   for (auto& [name, nodes] : built.clamps) {
     world_.AddKinematicGroup(object.body, core::KinematicGroup{name, nodes, {}});
     object.clamp_names.push_back(name);
-    object.clamped_nodes.insert(object.clamped_nodes.end(), nodes.begin(), nodes.end());
   }
   try {
     object.skin = std::make_shared<const core::SurfaceSkin>(
@@ -207,7 +206,7 @@ std::string Simulation::SetMaterial(const std::string& name, double youngs, doub
     core::StableTimeStepOptions stability;
     stability.damping_beta = damping;
     stability.safety = config_.world.time_step_safety;
-    stability.fixed_nodes = object.clamped_nodes;  // as the World counts them
+    stability.fixed_nodes = world_.constrained_nodes(object.body);  // as the World counts them
     const std::string substeps =
         SubstepProblem(config_.world, core::StableTimeStep(*model, stability));
     if (!substeps.empty()) return substeps;

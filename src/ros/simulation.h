@@ -93,9 +93,8 @@ class Simulation {
     ObjectConfig config;
     int body = 0;
     std::shared_ptr<const core::SurfaceSkin> skin;
-    core::SurfaceStrain strain;                  // of the skin's surface, for colouring
-    std::vector<std::string> clamp_names;        // wrench index = colliders + position here
-    std::vector<core::NodeIndex> clamped_nodes;  // every clamp's, for the stable step
+    core::SurfaceStrain strain;            // of the skin's surface, for colouring
+    std::vector<std::string> clamp_names;  // wrench index = colliders + position here
   };
   struct WrenchInput {
     WrenchInputConfig config;

@@ -115,6 +115,11 @@ class World {
   Collider& collider(int index) { return colliders_.at(index); }
   const Collider& collider(int index) const { return colliders_.at(index); }
   const BorderNodes& border(int body) const { return bodies_.at(body).border; }
+  /// The body's nodes that its kinematic groups fix or drive, ascending (what its stable step
+  /// leaves out).
+  std::vector<NodeIndex> constrained_nodes(int body) const {
+    return bodies_.at(body).ConstrainedNodes();
+  }
   /// The stable substep of the stiffest body (s).
   double stable_time_step() const;
   Energies ComputeEnergies(int body) const;
@@ -183,6 +188,7 @@ class World {
     /// stable_step for the model without the constrained nodes (StableTimeStepOptions::
     /// fixed_nodes): called again whenever the constrained nodes change.
     void UpdateStableStep(const WorldOptions& world_options);
+    std::vector<NodeIndex> ConstrainedNodes() const;
     std::string name;
     std::shared_ptr<const Model> model;
     BodyOptions options;
