@@ -14,6 +14,10 @@
 namespace msm_sim::core {
 namespace {
 
+// Solves of one implicit kick: each after the first releases the holds that pulled in the one
+// before (an active set), until none pulls.
+constexpr int kImplicitContactPasses = 4;
+
 // 1 on the DOFs of free nodes, 0 on kinematic ones.
 Eigen::Matrix3Xd FreeDofMask(const std::vector<char>& constrained) {
   Eigen::Matrix3Xd free(3, static_cast<Eigen::Index>(constrained.size()));
@@ -69,9 +73,15 @@ int World::ImplicitKick(Body* body, double h, double t0) {
   body->evaluator.Linearize(body->state.positions, GeometricStiffness::kDropCompression);
   const double c = 0.5 * h * h + h * body->options.damping_beta;
   // Colliders are at their mid-substep poses (Substep placed them), as in the contact stage.
-  std::vector<ContactNormal> held = DeepestColliderContacts(*body);
+  // The touching contacts are held from the start, the speculative ones once the solve would
+  // take their node past the surface.
+  std::vector<ContactNormal> held = DeepestColliderContacts(*body, h);
+  const auto touching = std::stable_partition(
+      held.begin(), held.end(), [](const ContactNormal& c) { return c.closing_speed == 0.0; });
+  std::vector<ContactNormal> speculative(touching, held.end());
+  held.erase(touching, held.end());
   Eigen::Matrix3Xd residual;
-  const int iterations = SolveImplicitKick(body, h, t0, c, &held, &residual);
+  const int iterations = SolveImplicitKick(body, h, t0, c, &held, &speculative, &residual);
   // A free node takes dv, a held contact too (no normal velocity relative to its collider).
   // A kinematic node takes the velocity the forces (with dv) would give it: dv minus the
   // constraint's impulse (-residual) over its mass, for DriveKinematicGroups to record the
@@ -85,7 +95,8 @@ int World::ImplicitKick(Body* body, double h, double t0) {
 }
 
 int World::SolveImplicitKick(Body* body, double h, double t0, double c,
-                             std::vector<ContactNormal>* held, Eigen::Matrix3Xd* residual) {
+                             std::vector<ContactNormal>* held,
+                             std::vector<ContactNormal>* speculative, Eigen::Matrix3Xd* residual) {
   const Eigen::VectorXd& m = body->model->masses();
   const int n = body->model->num_nodes();
   const Eigen::Matrix3Xd& v = body->state.velocities;
@@ -114,7 +125,7 @@ int World::SolveImplicitKick(Body* body, double h, double t0, double c,
   body->evaluator.ApplyStiffness(v, &stiffness_product);
   const Eigen::Matrix3Xd b = h * body->forces - (0.5 * h * h) * stiffness_product;
   int iterations = 0;
-  for (int pass = 0; pass < 2; ++pass) {
+  for (int pass = 0; pass < kImplicitContactPasses; ++pass) {
     // The start: the warm start's free part, plus the held parts, known.
     projection.free = FreeDofMask(body->constrained);
     HoldContacts(v, *held, &projection, &dv);
@@ -123,10 +134,31 @@ int World::SolveImplicitKick(Body* body, double h, double t0, double c,
     HoldContacts(v, *held, nullptr, &dv);
     iterations +=
         SolveMaskedPcg(apply, b, projection, inverse_diagonal, solver, &dv, residual).iterations;
-    // A hold that pulls the node into the collider is released, and the system solved again.
-    if (pass == 1 || !ReleasePullingContacts(*residual, held)) break;
+    // A hold that pulls the node into the collider is released, a node that would pass its
+    // speculative contact's surface is held, and the system solved again.
+    bool changed = ReleasePullingContacts(*residual, held);
+    if (pass + 1 < kImplicitContactPasses)
+      changed |= HoldReachingContacts(v, dv, speculative, held);
+    if (!changed) break;
   }
   return iterations;
+}
+
+bool World::HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
+                                 std::vector<ContactNormal>* speculative,
+                                 std::vector<ContactNormal>* held) {
+  // A node reaches the surface by the next substep's detection when it approaches faster than
+  // its closing speed (gap / h).
+  const auto reaches = [&](const ContactNormal& contact) {
+    const Eigen::Vector3d relative = v.col(contact.node) + dv.col(contact.node) - contact.velocity;
+    return relative.dot(contact.normal) < -contact.closing_speed;
+  };
+  const auto reaching = std::stable_partition(speculative->begin(), speculative->end(),
+                                              [&](const ContactNormal& c) { return !reaches(c); });
+  const bool any = reaching != speculative->end();
+  held->insert(held->end(), reaching, speculative->end());
+  speculative->erase(reaching, speculative->end());
+  return any;
 }
 
 void World::HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNormal>& held,
@@ -138,10 +170,11 @@ void World::HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNor
     }
     return;
   }
-  // The held part of dv: (v + dv - v_collider) . n = 0.
+  // The held part of dv: (v + dv - v_collider) . n = -closing speed.
   for (const ContactNormal& contact : held) {
     const Eigen::Vector3d relative = v.col(contact.node) - contact.velocity;
-    dv->col(contact.node) -= relative.dot(contact.normal) * contact.normal;
+    dv->col(contact.node) -=
+        (relative.dot(contact.normal) + contact.closing_speed) * contact.normal;
   }
 }
 

@@ -314,16 +314,16 @@ TEST(ImplicitIntegrator, FrictionlessIndentationAtNu049MatchesTheExplicitIntegra
   const IndentationExperimentResult explicit_run = RunIndentationExperiment(model, options);
   options.integrator = Integrator::kImplicit;
   const IndentationExperimentResult implicit_run = RunIndentationExperiment(model, options);
-  ASSERT_EQ(implicit_run.profile.size(), explicit_run.profile.size());
+  // The rows' depths differ by up to a step's travel (the first step that records a force
+  // starts each profile, and the implicit kick's speculative holds record it a step earlier):
+  // the explicit profile is read at the implicit rows' depths.
   double worst = 0.0;
   int compared = 0;
-  for (std::size_t row = 0; row < explicit_run.profile.size(); ++row) {
-    const IndentationSample& e = explicit_run.profile[row];
-    const IndentationSample& i = implicit_run.profile[row];
-    if (e.depth < 1e-3) continue;
-    ASSERT_NEAR(i.depth, e.depth, 1e-6);
-    ASSERT_GT(e.force, 0.0);
-    worst = std::max(worst, std::abs(i.force / e.force - 1.0));
+  for (const IndentationSample& i : implicit_run.profile) {
+    if (i.depth < 1e-3 || i.depth > explicit_run.profile.back().depth) continue;
+    const double e = ProfileForceAt(explicit_run.profile, i.depth);
+    ASSERT_GT(e, 0.0);
+    worst = std::max(worst, std::abs(i.force / e - 1.0));
     ++compared;
   }
   std::printf(

@@ -287,23 +287,36 @@ class World {
     Eigen::Vector3d velocity;  // of the collider's material at the contact point
     Eigen::Vector3d point;     // on the collider's surface
     int collider;
-    double approach;  // normal speed towards the collider before the kick (m/s, >= 0)
+    /// Normal speed towards the collider before the kick beyond closing_speed (m/s, >= 0).
+    double approach;
     double friction;  // Coulomb coefficient of the pair
+    /// The gap between the node's collision sphere and the collider over the substep's length
+    /// (m/s, >= 0; 0 for a sphere that touches): a speculative contact's hold lets the node
+    /// approach at this speed, closing the gap by the next substep's detection, and no faster.
+    double closing_speed;
   };
   /// The deepest collider contact of each free border node of body at its current (mid-substep)
-  /// position, detected as CollideWithColliders does. Precondition: colliders at their
-  /// mid-substep poses (PlaceCollidersAtMidSubstep).
-  std::vector<ContactNormal> DeepestColliderContacts(const Body& body) const;
+  /// position whose collision sphere is within kSpeculativeReach radii of touching (a
+  /// speculative contact, closing_speed = gap / h), detected as CollideWithColliders does.
+  /// Precondition: colliders at their mid-substep poses (PlaceCollidersAtMidSubstep), h > 0.
+  std::vector<ContactNormal> DeepestColliderContacts(const Body& body, double h) const;
   /// Solves (M + c K) dv = h F - (h^2/2) K v into body->implicit_dv with the kinematic nodes and
-  /// the contacts in *held held (a held node ends with no normal velocity relative to its
-  /// collider), releasing the contacts whose constraint pulls and solving once more if any was.
+  /// the contacts in *held held (a held node ends approaching its collider at its closing speed:
+  /// not at all once touching); then releases the holds that pull, holds the contacts of
+  /// *speculative whose node the solution takes past the surface (moving them to *held), and
+  /// solves again while either changed anything (at most kImplicitContactPasses solves).
   /// *held ends as the contacts held in the last solve, *residual as the right-hand side minus
   /// (M + c K) dv. Returns the solver's iterations. Precondition: body->forces and the stiffness
   /// linearised.
   int SolveImplicitKick(Body* body, double h, double t0, double c, std::vector<ContactNormal>* held,
-                        Eigen::Matrix3Xd* residual);
+                        std::vector<ContactNormal>* speculative, Eigen::Matrix3Xd* residual);
+  /// Moves from *speculative to *held the contacts whose node, at velocity v + dv, approaches
+  /// its collider faster than its closing speed; returns whether there was any.
+  static bool HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
+                                   std::vector<ContactNormal>* speculative,
+                                   std::vector<ContactNormal>* held);
   /// With a projection: holds the held contacts' normals in it; without: sets the held part of
-  /// *dv, no normal velocity relative to the collider.
+  /// *dv, a normal velocity towards the collider of its closing speed.
   static void HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNormal>& held,
                            DofProjection* projection, Eigen::Matrix3Xd* dv);
   /// Removes from *held the contacts whose hold pulls the node into the collider after a solve
