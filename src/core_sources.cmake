@@ -59,6 +59,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/dynamics/contact_point_average.cpp
   ${MSM_SIM_DIR}/src/dynamics/contact_wrench_average.cpp
   ${MSM_SIM_DIR}/src/dynamics/world.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world_collider_entry.cpp
   ${MSM_SIM_DIR}/src/dynamics/world_contacts.cpp
   ${MSM_SIM_DIR}/src/dynamics/world_pair_contacts.cpp
   ${MSM_SIM_DIR}/src/dynamics/world_implicit.cpp

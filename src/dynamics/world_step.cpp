@@ -89,7 +89,9 @@ StepReport World::Step(double dt) {
   report.substeps = NumSubsteps(dt, implicit ? options_.implicit_max_substep : stable_time_step());
   report.substep = dt / report.substeps;
   ClearStepRecords();
-  const std::string problem = RunSubsteps(report.substeps, report.substep, start.collider_poses);
+  const std::vector<Eigen::Isometry3d> poses = BeginColliderEntries(dt, start.collider_poses);
+  const std::string problem = RunSubsteps(report.substeps, report.substep, poses);
+  EndColliderEntries(problem.empty());
   if (!problem.empty()) {
     // An absurd push is what usually makes a step fail; keeping it would fail every step.
     const bool dropped = RollBack(start);

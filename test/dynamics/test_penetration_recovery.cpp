@@ -49,7 +49,7 @@ struct Recovery {
   int rejected = 0;
 };
 
-// How an indenter reaches its pose `depth` below the block's top node centres.
+// How an indenter reaches its pose `depth` past first contact.
 enum class Arrival { kTeleported, kPressedSlowly };
 
 // The block (base clamped, no gravity) and an indenter of `shape` whose bottom face is level:
@@ -57,7 +57,9 @@ enum class Arrival { kTeleported, kPressedSlowly };
 struct Indentation {
   std::unique_ptr<World> world;
   int body = 0, collider = 0;
-  double top = 0.0;  // m, the block's top node centres
+  // m, the height at which a level face touches the first collision sphere of the block's top:
+  // depths are counted from there, as msm_lab indent counts a sphere's.
+  double touch = 0.0;
   Eigen::Vector3d centre;
 };
 
@@ -79,7 +81,11 @@ Indentation MakeIndentation(double poisson, const ColliderShape& shape, Integrat
                              NodesInHalfSpace(*model, Eigen::Vector3d(0.0, 0.0, bottom + 0.0015),
                                               Eigen::Vector3d::UnitZ()),
                              {}});
-  s.top = model->rest_positions().row(2).maxCoeff();
+  const BorderNodes& border = s.world->border(s.body);
+  s.touch = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    s.touch = std::max(s.touch, model->rest_positions()(2, border.nodes[k]) + border.radii[k]);
+  }
   s.centre = 0.5 * (model->rest_positions().rowwise().minCoeff() +
                     model->rest_positions().rowwise().maxCoeff());
   Collider indenter;
@@ -89,14 +95,14 @@ Indentation MakeIndentation(double poisson, const ColliderShape& shape, Integrat
   return s;
 }
 
-// Presses the indenter, its bottom face level, from 2 mm above the block's top node centres to
-// `depth` below them at 5 mm/s in 1 ms steps. Each step starts where the last one's velocity
+// Presses the indenter, its bottom face level, from 0.5 mm above first contact to `depth` past
+// it at 5 mm/s in 1 ms steps. Each step starts where the last one's velocity
 // took the indenter (the World moves a collider by its velocity); it ends at rest. Returns the
 // rejected steps.
 int PressTo(Indentation* s, double depth) {
   World& world = *s->world;
   Collider& indenter = world.collider(s->collider);
-  const double speed = 0.005, start = s->top + 0.002, end = s->top - depth, dt = 1e-3;
+  const double speed = 0.005, start = s->touch + 5e-4, end = s->touch - depth, dt = 1e-3;
   int rejected = 0;
   for (double z = start; z > end;) {
     const double next = std::max(end, z - speed * dt);
@@ -109,9 +115,9 @@ int PressTo(Indentation* s, double depth) {
   return rejected;
 }
 
-// The indenter's bottom face `depth` below the top node centres, either placed there at once
-// or pressed there (PressTo); then held
-// still for 0.2 s in 1 ms steps. The force is the mean over the hold's last 20 ms.
+// The indenter's bottom face `depth` past first contact, either placed there at once or pressed
+// there (PressTo); then held still for 0.2 s in 1 ms steps. The force is the mean over the
+// hold's last 20 ms.
 Recovery Indent(double poisson, double depth, const ColliderShape& shape, Integrator integrator,
                 Arrival arrival, double max_speed = 0.1) {
   Indentation s = MakeIndentation(poisson, shape, integrator, max_speed);
@@ -122,7 +128,7 @@ Recovery Indent(double poisson, double depth, const ColliderShape& shape, Integr
   };
   Recovery r;
   if (arrival == Arrival::kPressedSlowly) r.rejected += PressTo(&s, depth);
-  place(s.top - depth);
+  place(s.touch - depth);
   r.overlap_before = Overlap(world, s.body, s.collider);
   r.peak_kinetic = 0.0;
   r.max_total = -std::numeric_limits<double>::infinity();
@@ -140,7 +146,8 @@ Recovery Indent(double poisson, double depth, const ColliderShape& shape, Integr
   r.overlap_after = Overlap(world, s.body, s.collider);
   r.force_after = force;
   std::printf(
-      "  %s %s %.1f mm deep, nu %.2f, %s: overlap %.3f mm -> %.3f mm (50 ms) -> %.4f mm (0.2 s), "
+      "  %s %s %.1f mm past first contact, nu %.2f, %s: overlap %.3f mm -> %.3f mm (50 ms) -> %.4f "
+      "mm (0.2 s), "
       "force %.3f N, kinetic peak %.3g J, elastic %.3g J, total max %.4g / final %.4g J\n",
       shape.type() == ColliderShape::Type::kMesh ? "mesh box" : "box",
       arrival == Arrival::kTeleported ? "teleported" : "pressed", 1e3 * depth, poisson,
@@ -164,60 +171,56 @@ Recovery RecoverFromBox(double poisson, double depth, Integrator integrator,
   return Indent(poisson, depth, Box2cm(), integrator, Arrival::kTeleported, max_speed);
 }
 
-void ExpectRecovered(const Recovery& r) {
+void ExpectRecovered(const Recovery& r, double depth = 0.004) {
   EXPECT_EQ(r.rejected, 0);
-  EXPECT_GT(r.overlap_before, 0.0055);  // 4 mm plus a collision radius
+  EXPECT_GT(r.overlap_before, 0.99 * depth);
   // After 0.2 s no collision sphere overlaps the box by more than 0.2 mm (measured 0.10-0.13
   // mm: the overlap decays as exp(-t / 50 ms) once below 5 mm; the bound is a collision
   // radius, 1.5 mm).
   EXPECT_LT(r.overlap_after, 2e-4);
 }
 
-// Teleported 4 mm in and held: recovered, and within 10 % of the force of the same indenter
-// pressed slowly to the same pose (the tolerance).
-void ExpectRecoveredToThePressedForce(double poisson, const ColliderShape& shape,
-                                      Integrator integrator) {
-  const Recovery teleported = Indent(poisson, 0.004, shape, integrator, Arrival::kTeleported);
-  const Recovery pressed = Indent(poisson, 0.004, shape, integrator, Arrival::kPressedSlowly);
-  ExpectRecovered(teleported);
-  // No burst: the block rings with at most a fifth of the elastic energy the recovery stores
-  // (measured 12-13 %, as much as with friction during the recovery).
-  EXPECT_LT(teleported.peak_kinetic, 0.2 * teleported.final_elastic);
-  EXPECT_EQ(pressed.rejected, 0);
-  EXPECT_NEAR(teleported.force_after, pressed.force_after, 0.1 * pressed.force_after)
-      << "nu " << poisson << ", " << IntegratorName(integrator);
-}
-
-TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOut) {
-  for (const double poisson : {0.25, 0.45}) {
-    ExpectRecoveredToThePressedForce(poisson, Box2cm(), Integrator::kExplicit);
+// Teleported 4 mm past first contact and held: recovered, and within 10 % of the force of the same
+// indenter pressed slowly to the same pose (the tolerance), with either integrator. The
+// box's node centres are inside it, so it is moved out of the block and pressed back in (World::
+// BeginColliderEntries). 4 mm past first contact is 2.2 mm below the top node centres; at 5.6
+// mm the lattice under the box's rim gives way even when pressed slowly, and the two paths'
+// states then depend on when each reaches it (docs/physics.md §7.2).
+void ExpectRecoveredToThePressedForce(double poisson, const ColliderShape& shape) {
+  const double depth = 0.004;
+  for (const Integrator integrator : {Integrator::kExplicit, Integrator::kImplicit}) {
+    const Recovery teleported = Indent(poisson, depth, shape, integrator, Arrival::kTeleported);
+    const Recovery pressed = Indent(poisson, depth, shape, integrator, Arrival::kPressedSlowly);
+    ExpectRecovered(teleported, depth);
+    // No burst: the block rings with at most 5 % of the elastic energy the press-in stores
+    // (measured 0.05-1.2 %), and the total energy never exceeds its final value by more than 2 %
+    // (the press-in stores it, the dampers take the ringing).
+    EXPECT_LT(teleported.peak_kinetic, 0.05 * teleported.final_elastic);
+    EXPECT_LT(teleported.max_total, 1.02 * teleported.final_total);
+    EXPECT_EQ(pressed.rejected, 0);
+    EXPECT_NEAR(teleported.force_after, pressed.force_after, 0.1 * pressed.force_after)
+        << "nu " << poisson << ", " << IntegratorName(integrator);
   }
 }
 
-// The implicit integrator recovers without a burst, but not yet to the pressed force: the box
-// teleported in ends at 11.4 N, pressed slowly at 7.1 N (nu 0.45; docs/physics.md §7.2).
-TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOutImplicit) {
-  const Recovery r = RecoverFromBox(0.45, 0.004, Integrator::kImplicit);
-  ExpectRecovered(r);
-  // The correction moves positions only and stores elastic energy as it goes: no burst.
-  EXPECT_LT(r.peak_kinetic, 0.01 * r.final_elastic);  // measured 0.08 %
-  EXPECT_LT(r.max_total, 1.02 * r.final_total);
+TEST(PenetrationRecovery, BoxTeleportedIntoABlockIsPushedOut) {
+  for (const double poisson : {0.25, 0.45}) ExpectRecoveredToThePressedForce(poisson, Box2cm());
 }
 
-// A long implicit substep and an indenter that backs off by a hair: a block pressed 2 mm by the
-// box, which then stands 5 um higher. The top nodes' collision spheres no longer touch it, and
-// before the kick held them speculatively (kSpeculativeReach) the released block sprang back
-// through the box's face in one 1 ms substep (2.3 m/s; 36 node centres inside the box, force
-// 18.5 N -> 6.3 N, recovering to 12.8 N in a state with 1.8 times the elastic energy). Both
-// integrators must keep the contact: no sphere overlapping the box by more than 0.25 mm in any
-// step (a seventh of its radius; measured 0.15 mm explicit, whose substeps let a pressed node
-// sink a little before stopping it, and 0.00 implicit), and the force within 2 % of the pressed
-// one.
+// A long implicit substep and an indenter that backs off by a hair: a block pressed 3.8 mm past
+// first contact by the box (2 mm below its top node centres), which then stands 5 um higher. The
+// top nodes' collision spheres no longer touch it, and before the kick held them speculatively
+// (kSpeculativeReach) the released block sprang back through the box's face in one 1 ms substep
+// (2.3 m/s; 36 node centres inside the box, force 18.5 N -> 6.3 N, recovering to 12.8 N in a state
+// with 1.8 times the elastic energy). Both integrators must keep the contact: no sphere overlapping
+// the box by more than 0.25 mm in any step (a seventh of its radius; measured 0.15 mm explicit,
+// whose substeps let a pressed node sink a little before stopping it, and 0.00 implicit), and the
+// force within 2 % of the pressed one.
 TEST(PenetrationRecovery, ContactSurvivesTheIndenterBackingOffAHair) {
   for (const Integrator integrator : {Integrator::kExplicit, Integrator::kImplicit}) {
     Indentation s = MakeIndentation(0.25, Box2cm(), integrator, 0.1);
     World& world = *s.world;
-    ASSERT_EQ(PressTo(&s, 0.002), 0);
+    ASSERT_EQ(PressTo(&s, 0.0038), 0);
     const double pressed = world.wrenches(s.body)[s.collider].force.z();
     world.collider(s.collider).pose.translation().z() += 5e-6;
     double deepest = 0.0, force = 0.0;
@@ -227,7 +230,7 @@ TEST(PenetrationRecovery, ContactSurvivesTheIndenterBackingOffAHair) {
       force = world.wrenches(s.body)[s.collider].force.z();
     }
     std::printf(
-        "  box pressed 2 mm, backed off 5 um (%s): force %.3f -> %.3f N, deepest "
+        "  box pressed 3.8 mm, backed off 5 um (%s): force %.3f -> %.3f N, deepest "
         "overlap %.4f mm\n",
         IntegratorName(integrator), pressed, force, 1e3 * deepest);
     EXPECT_GT(pressed, 10.0);
@@ -238,7 +241,7 @@ TEST(PenetrationRecovery, ContactSurvivesTheIndenterBackingOffAHair) {
 
 TEST(PenetrationRecovery, MeshColliderTeleportedIntoABlockIsPushedOut) {
   for (const double poisson : {0.25, 0.45}) {
-    ExpectRecoveredToThePressedForce(poisson, MeshBox2cm(), Integrator::kExplicit);
+    ExpectRecoveredToThePressedForce(poisson, MeshBox2cm());
   }
 }
 

@@ -394,6 +394,39 @@ class World {
   /// CountInPatches leaves them), by the part of the recovery speed its velocity lacks, times h.
   void RecoverFromColliders(Body* body, NodeIndex node, double radius,
                             const std::vector<NodeContact>& contacts) const;
+  // A collider that appears with node centres inside (world_collider_entry.cpp, docs/physics.md
+  // §7.2): moved out of the bodies and pressed back in.
+  /// A collider's way back in: its contacts use its pose moved by depth along direction (m,
+  /// world frame), and the depth shrinks at RecoverySpeed(depth) to 0.
+  struct ColliderEntry {
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();      // unit, out of the bodies
+    double depth = 0.0;                                       // m, at the Step's start
+    double depth_before = 0.0, depth_after = 0.0;             // m, of the current Step
+    Eigen::Vector3d user_velocity = Eigen::Vector3d::Zero();  // the collider's own, m/s
+  };
+  /// For each bounded enabled collider: if border node centres of any body lie inside it at
+  /// its pose plus its entry, the entry grows to where no collision sphere touches it (along
+  /// the way out of the bodies, fixed when the entry starts); returns the poses the substeps
+  /// start from (poses plus the entries) and adds the entries' shrinking over dt to the
+  /// colliders' velocities. Precondition: poses are the colliders' at the Step's start; call
+  /// EndColliderEntries after the substeps.
+  std::vector<Eigen::Isometry3d> BeginColliderEntries(double dt,
+                                                      const std::vector<Eigen::Isometry3d>& poses);
+  /// Gives the colliders their own velocities back; the entries advance if the Step was
+  /// accepted and stay where they were if not.
+  void EndColliderEntries(bool accepted);
+  /// max over all bodies' border nodes of r - signed distance from the collider at pose (m),
+  /// r their collision radius, or 0 if `centres` (the deepest centre); -inf if none is near.
+  double DeepestBorderOverlap(const Collider& collider, const Eigen::Isometry3d& pose,
+                              bool centres) const;
+  /// The unit direction out of the bodies at the node centres inside the collider at pose: minus
+  /// the sum of their stars' unit vectors; zero if there is none.
+  Eigen::Vector3d WayOutOfBodies(const Collider& collider, const Eigen::Isometry3d& pose) const;
+  /// The least distance (>= from, m) the collider at pose must move along direction for no
+  /// collision sphere to overlap it (sphere tracing); NaN if none within the collider's size.
+  double DistanceToClear(const Collider& collider, const Eigen::Isometry3d& pose,
+                         const Eigen::Vector3d& direction, double from) const;
+
   /// The touching pairs of border nodes, found with a spatial hash.
   std::vector<PairContact> FindTouchingPairs();
   /// False when no body may touch itself and no two bodies' border nodes come within reach.
@@ -437,6 +470,7 @@ class World {
   WorldOptions options_;
   std::vector<Body> bodies_;
   std::vector<Collider> colliders_;
+  std::vector<ColliderEntry> entries_;  // per collider (BeginColliderEntries)
   double time_ = 0.0;
 };
 
