@@ -14,8 +14,9 @@
 namespace msm_sim::core {
 namespace {
 
-// Solves of one implicit kick: each after the first releases the holds that pulled in the one
-// before (an active set), until none pulls.
+// Solves of one implicit kick at most: each after the first releases the holds that pulled in
+// the one before and holds the speculative contacts it took past their surface (an active set),
+// until neither changes.
 constexpr int kImplicitContactPasses = 4;
 
 // 1 on the DOFs of free nodes, 0 on kinematic ones.
@@ -82,7 +83,7 @@ int World::ImplicitKick(Body* body, double h, double t0) {
   held.erase(touching, held.end());
   Eigen::Matrix3Xd residual;
   const int iterations = SolveImplicitKick(body, h, t0, c, &held, &speculative, &residual);
-  // A free node takes dv, a held contact too (no normal velocity relative to its collider).
+  // A free node takes dv, a held contact too (approaching its collider at its closing speed).
   // A kinematic node takes the velocity the forces (with dv) would give it: dv minus the
   // constraint's impulse (-residual) over its mass, for DriveKinematicGroups to record the
   // group's reaction as in the explicit kick.

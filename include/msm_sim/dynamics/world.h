@@ -97,7 +97,10 @@ class World {
   void SetThreads(int threads);
 
   /// Advances by dt (s, > 0) in equal substeps no longer than the stable step (implicit: no
-  /// longer than implicit_max_substep).
+  /// longer than implicit_max_substep); each collider's pose advances with its twist. A bounded
+  /// collider found at the start with border node centres inside a body is moved out of it and
+  /// pressed back in to its own pose over the following steps (penetration recovery, docs/
+  /// physics.md §7.2); its pose and twist as the caller sees them are not changed.
   StepReport Step(double dt);
   /// Puts every body back at rest at its rest positions (kinematic groups at their poses at
   /// time 0), drops pending pushes and contacts, and sets the time to 0.
