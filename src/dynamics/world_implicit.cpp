@@ -74,11 +74,16 @@ int World::ImplicitKick(Body* body, double h, double t0) {
   body->evaluator.Linearize(body->state.positions, GeometricStiffness::kDropCompression);
   const double c = 0.5 * h * h + h * body->options.damping_beta;
   // Colliders are at their mid-substep poses (Substep placed them), as in the contact stage.
-  // The touching contacts are held from the start, the speculative ones once the solve would
-  // take their node past the surface.
+  // The touching contacts are held from the start, and so are the speculative ones whose node
+  // already approaches faster than its holding speed; the others once the solve would take
+  // their node that far.
   std::vector<ContactNormal> held = DeepestColliderContacts(*body, h);
-  const auto touching = std::stable_partition(
-      held.begin(), held.end(), [](const ContactNormal& c) { return c.closing_speed == 0.0; });
+  const Eigen::Matrix3Xd& v = body->state.velocities;
+  const auto touching =
+      std::stable_partition(held.begin(), held.end(), [&v](const ContactNormal& c) {
+        return c.closing_speed == 0.0 ||
+               (c.velocity - v.col(c.node)).dot(c.normal) > c.holding_speed;
+      });
   std::vector<ContactNormal> speculative(touching, held.end());
   held.erase(touching, held.end());
   Eigen::Matrix3Xd residual;
@@ -148,11 +153,11 @@ int World::SolveImplicitKick(Body* body, double h, double t0, double c,
 bool World::HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
                                  std::vector<ContactNormal>* speculative,
                                  std::vector<ContactNormal>* held) {
-  // A node reaches the surface by the next substep's detection when it approaches faster than
-  // its closing speed (gap / h).
+  // A node passes the surface by the next substep's detection when it approaches faster than
+  // its closing speed (gap / h); by more than the slop, faster than its holding speed.
   const auto reaches = [&](const ContactNormal& contact) {
     const Eigen::Vector3d relative = v.col(contact.node) + dv.col(contact.node) - contact.velocity;
-    return relative.dot(contact.normal) < -contact.closing_speed;
+    return relative.dot(contact.normal) < -contact.holding_speed;
   };
   const auto reaching = std::stable_partition(speculative->begin(), speculative->end(),
                                               [&](const ContactNormal& c) { return !reaches(c); });

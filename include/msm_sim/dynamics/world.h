@@ -297,6 +297,9 @@ class World {
     /// (m/s, >= 0; 0 for a sphere that touches): a speculative contact's hold lets the node
     /// approach at this speed, closing the gap by the next substep's detection, and no faster.
     double closing_speed;
+    /// A speculative contact is held once its node approaches faster than this (m/s): its
+    /// closing speed plus kSpeculativeSlop radii per substep.
+    double holding_speed;
   };
   /// The deepest collider contact of each free border node of body at its current (mid-substep)
   /// position whose collision sphere is within kSpeculativeReach radii of touching (a
@@ -314,7 +317,7 @@ class World {
   int SolveImplicitKick(Body* body, double h, double t0, double c, std::vector<ContactNormal>* held,
                         std::vector<ContactNormal>* speculative, Eigen::Matrix3Xd* residual);
   /// Moves from *speculative to *held the contacts whose node, at velocity v + dv, approaches
-  /// its collider faster than its closing speed; returns whether there was any.
+  /// its collider faster than its holding speed; returns whether there was any.
   static bool HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
                                    std::vector<ContactNormal>* speculative,
                                    std::vector<ContactNormal>* held);
