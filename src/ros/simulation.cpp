@@ -25,6 +25,8 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   options.integrator = config.integrator;
   options.threads = config.threads;
   options.spring_precision = config.spring_precision;
+  options.penetration_recovery_time = config.penetration_recovery_time;
+  options.penetration_max_speed = config.penetration_max_speed;
   options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
   return options;
 }

@@ -30,9 +30,19 @@ using param::Text;
 using param::Vector;
 
 // The keys each dictionary of the configuration takes (README "msm_sim_node").
-const std::set<std::string> kWorldKeys = {
-    "frame",     "gravity",          "ground",     "time_step", "publish_rate",    "real_time",
-    "max_force", "time_step_safety", "integrator", "threads",   "spring_precision"};
+const std::set<std::string> kWorldKeys = {"frame",
+                                          "gravity",
+                                          "ground",
+                                          "time_step",
+                                          "publish_rate",
+                                          "real_time",
+                                          "max_force",
+                                          "time_step_safety",
+                                          "integrator",
+                                          "threads",
+                                          "spring_precision",
+                                          "penetration_recovery_time",
+                                          "penetration_max_speed"};
 const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout", "links",
                                           "link_friction"};
 const std::set<std::string> kMarkerKeys = {"colour_by_strain", "strain_range", "nodes", "springs"};
@@ -75,6 +85,10 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
   }
   config.spring_precision =
       precision == "single" ? core::SpringPrecision::kSingle : core::SpringPrecision::kDouble;
+  config.penetration_recovery_time =
+      Positive(world, "penetration_recovery_time", config.penetration_recovery_time, path);
+  config.penetration_max_speed =
+      NonNegative(world, "penetration_max_speed", config.penetration_max_speed, path);
   return config;
 }
 

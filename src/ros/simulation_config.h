@@ -93,6 +93,11 @@ struct WorldConfig {
   int threads = 1;
   /// The spring loops' arithmetic in the dynamics (core::WorldOptions::spring_precision).
   core::SpringPrecision spring_precision = core::SpringPrecision::kSingle;
+  /// s, > 0: an overlap (or a collider's way back in) shrinks as exp(-t / this) once below this
+  /// times penetration_max_speed (core::WorldOptions, docs/physics.md §7.2).
+  double penetration_recovery_time = 0.05;
+  /// m/s, >= 0: the fastest a node (or a collider pressed back in) is recovered at; 0: off.
+  double penetration_max_speed = 0.1;
 };
 
 struct MarkerConfig {

@@ -81,6 +81,8 @@ std::vector<Scene> WorldScenes() {
       {{{"world/time_step_safety", "1.5"}}, "~world/time_step_safety"},
       {{{"world/integrator", "rk4"}}, "~world/integrator"},
       {{{"world/integrator", "42"}}, "~world/integrator"},
+      {{{"world/penetration_recovery_time", "0"}}, "~world/penetration_recovery_time"},
+      {{{"world/penetration_max_speed", "-0.1"}}, "~world/penetration_max_speed"},
       {{{"world/spring_precision", "half"}}, "~world/spring_precision"},
       {{{"world/spring_precision", "32"}}, "~world/spring_precision"},
       {{{"world/gravity", "[0, 0]"}}, "~world/gravity"},

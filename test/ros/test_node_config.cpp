@@ -69,10 +69,16 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   scene.setParam("world/integrator", std::string("implicit"));
   scene.setParam("world/time_step_safety", 0.4);
   scene.setParam("world/spring_precision", std::string("double"));
+  EXPECT_EQ(defaults.world.penetration_recovery_time, 0.05);
+  EXPECT_EQ(defaults.world.penetration_max_speed, 0.1);
+  scene.setParam("world/penetration_recovery_time", 0.02);
+  scene.setParam("world/penetration_max_speed", 0.0);
   const auto config = msm_sim::ros_interface::LoadSimulationConfig(scene);
   EXPECT_EQ(config.world.integrator, msm_sim::core::Integrator::kImplicit);
   EXPECT_EQ(config.world.time_step_safety, 0.4);
   EXPECT_EQ(config.world.spring_precision, msm_sim::core::SpringPrecision::kDouble);
+  EXPECT_EQ(config.world.penetration_recovery_time, 0.02);
+  EXPECT_EQ(config.world.penetration_max_speed, 0.0);
   scene.deleteParam("");
 }
 
@@ -160,6 +166,8 @@ TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("world/time_step_safety", 0.0, "~world/time_step_safety");
   ExpectConfigError("world/integrator", std::string("rk4"), "~world/integrator");
   ExpectConfigError("world/spring_precision", std::string("half"), "~world/spring_precision");
+  ExpectConfigError("world/penetration_recovery_time", 0.0, "~world/penetration_recovery_time");
+  ExpectConfigError("world/penetration_max_speed", -0.1, "~world/penetration_max_speed");
   XmlRpc::XmlRpcValue bad_clamp;
   bad_clamp[0]["name"] = std::string("c");
   ExpectConfigError("clamps", bad_clamp, "~objects[0]/clamps[0]");
