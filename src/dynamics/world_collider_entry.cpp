@@ -108,30 +108,32 @@ std::vector<Eigen::Isometry3d> World::BeginColliderEntries(
     Collider& collider = colliders_[c];
     ColliderEntry& entry = entries_[c];
     entry.user_velocity = collider.linear_velocity;
-    entry.depth_before = entry.depth_after = entry.depth;
     Eigen::Vector3d lo, hi;
     if (!collider.enabled || options_.penetration_max_speed <= 0.0 ||
         !collider.shape.Bounds(&lo, &hi)) {
       entry.depth = entry.depth_after = 0.0;
       continue;
     }
+    // The entry at this step's start; entry.depth itself moves on only if the step is accepted.
+    double depth = entry.depth;
     Eigen::Isometry3d pose = poses[c];
-    pose.pretranslate(entry.depth * entry.direction);
+    pose.pretranslate(depth * entry.direction);
     if (DeepestBorderOverlap(collider, pose, true) > 0.0) {
       // Node centres inside: (further) out along the way out of the bodies, to where no
       // collision sphere touches the collider.
-      if (entry.depth <= 0.0) entry.direction = WayOutOfBodies(collider, pose);
+      if (depth <= 0.0) entry.direction = WayOutOfBodies(collider, pose);
       const double clear = entry.direction.isZero(0.0)
                                ? std::numeric_limits<double>::quiet_NaN()
-                               : DistanceToClear(collider, poses[c], entry.direction, entry.depth);
-      if (std::isfinite(clear)) entry.depth = clear;
+                               : DistanceToClear(collider, poses[c], entry.direction, depth);
+      if (std::isfinite(clear)) depth = clear;
     }
-    if (entry.depth <= 0.0) continue;
+    entry.depth_after = depth;
+    if (depth <= 0.0) continue;
     // Pressed back in at the recovery's speed: min(max speed, depth / recovery time).
-    entry.depth_after = std::max(0.0, entry.depth - dt * RecoverySpeed(entry.depth));
+    entry.depth_after = std::max(0.0, depth - dt * RecoverySpeed(depth));
     if (entry.depth_after < kFinishedEntry) entry.depth_after = 0.0;
-    entered[c].pretranslate(entry.depth * entry.direction);
-    collider.linear_velocity += (entry.depth_after - entry.depth) / dt * entry.direction;
+    entered[c].pretranslate(depth * entry.direction);
+    collider.linear_velocity += (entry.depth_after - depth) / dt * entry.direction;
   }
   return entered;
 }
@@ -140,7 +142,7 @@ void World::EndColliderEntries(bool accepted) {
   for (std::size_t c = 0; c < entries_.size(); ++c) {
     ColliderEntry& entry = entries_[c];
     colliders_[c].linear_velocity = entry.user_velocity;
-    entry.depth = accepted ? entry.depth_after : entry.depth_before;
+    if (accepted) entry.depth = entry.depth_after;
   }
 }
 

@@ -407,7 +407,7 @@ class World {
   struct ColliderEntry {
     Eigen::Vector3d direction = Eigen::Vector3d::Zero();      // unit, out of the bodies
     double depth = 0.0;                                       // m, at the Step's start
-    double depth_before = 0.0, depth_after = 0.0;             // m, of the current Step
+    double depth_after = 0.0;                                 // m, at the current Step's end
     Eigen::Vector3d user_velocity = Eigen::Vector3d::Zero();  // the collider's own, m/s
   };
   /// For each bounded enabled collider: if border node centres of any body lie inside it at
