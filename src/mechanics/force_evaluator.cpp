@@ -91,6 +91,10 @@ void ForceEvaluator::set_precision(SpringPrecision precision) {
   } else if (!single_) {
     single_ = SinglePrecisionSprings::Schedule(*model_, inflow_a_.data(), inflow_b_.data(),
                                                outflow_a_.data(), outflow_b_.data());
+    // A linearisation from before takes the single-precision products from now on.
+    if (scheduled_linearization_.size() == 4 * static_cast<Eigen::Index>(model_->num_springs())) {
+      RoundLinearization();
+    }
   }
 }
 

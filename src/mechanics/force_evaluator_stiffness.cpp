@@ -105,10 +105,70 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
                   {x, x + n, x + 2 * n}, scheduled_totals_.data(),
                   geometric == GeometricStiffness::kDropCompression,
                   scheduled_linearization_.data());
+    if (single_) RoundLinearization();
+  }
+}
+
+void ForceEvaluator::RoundLinearization() {
+  // Per spring in schedule order: k, inflow a and b, outflow a and b (once), then u and T / L.
+  const ScheduledSprings springs = scheduled_->View();
+  const Eigen::Index count = model_->num_springs();
+  if (single_stiffness_.size() != 9 * count) {
+    single_stiffness_.resize(9 * count);
+    const double* fixed[5] = {springs.stiffness, springs.inflow_a, springs.inflow_b,
+                              springs.outflow_a, springs.outflow_b};
+    for (int block = 0; block < 5; ++block) {
+      for (Eigen::Index s = 0; s < count; ++s) {
+        single_stiffness_[block * count + s] = static_cast<float>(fixed[block][s]);
+      }
+    }
+  }
+  single_stiffness_.tail(4 * count) = scheduled_linearization_.cast<float>();
+}
+
+void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
+                                              Eigen::Matrix3Xd* out) const {
+  const Eigen::Index n = model_->num_nodes();
+  const Eigen::Index count = model_->num_springs();
+  single_stiffness_arrays_.resize(7 * n);
+  float* dv = single_stiffness_arrays_.data();
+  float* product = dv + 3 * n;
+  float* dj = dv + 6 * n;
+  const double zero[3] = {0.0, 0.0, 0.0};
+  ToSingleNodeArrays(v.data(), n, 0, n, zero, dv);
+  std::fill(product, product + 3 * n, 0.0f);
+  const float* data = single_stiffness_.data();
+  const SingleScheduledStiffness springs{scheduled_->View().runs,
+                                         data,
+                                         data + count,
+                                         data + 2 * count,
+                                         data + 3 * count,
+                                         data + 4 * count,
+                                         data + 5 * count,
+                                         data + 6 * count,
+                                         data + 7 * count,
+                                         data + 8 * count};
+  const int runs = static_cast<int>(scheduled_->schedule.runs.size());
+  const bool disperse = model_->dispersion_fraction() != 0.0;
+  if (disperse) std::fill(dj, dj + n, 0.0f);
+  SingleStiffnessRuns(springs, 0, runs, dv, n, product, disperse ? dj : nullptr);
+  if (disperse) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      dj[i] = static_cast<float>(dj[i] * inverse_star_weight_[i]);  // dg = dJ / W
+    }
+    SingleDispersedStiffnessRuns(springs, 0, runs, dj, n, product);
+  }
+  out->resize(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (int d = 0; d < 3; ++d) (*out)(d, i) = product[d * n + i];
   }
 }
 
 void ForceEvaluator::ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
+  if (single_) {
+    ApplySingleStiffnessRuns(v, out);
+    return;
+  }
   const Eigen::Index n = model_->num_nodes();
   stiffness_arrays_.resize(6 * n);
   double* dv = stiffness_arrays_.data();

@@ -19,17 +19,21 @@ constexpr int kMax = SpringSchedule::kMaxRunLength;
 
 // A run's per-spring force vectors, applied to the a ends in the first loop and to the b ends
 // in the second.
-struct RunForces {
-  alignas(64) double x[kMax];
-  alignas(64) double y[kMax];
-  alignas(64) double z[kMax];
+template <typename Real>
+struct RunForcesOf {
+  alignas(64) Real x[kMax];
+  alignas(64) Real y[kMax];
+  alignas(64) Real z[kMax];
 };
+using RunForces = RunForcesOf<double>;
 
-inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run, const RunForces& c,
-                                                       const MutableNodeArrays& forces) {
-  double* __restrict fx = forces.x;
-  double* __restrict fy = forces.y;
-  double* __restrict fz = forces.z;
+template <typename Real>
+inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run,
+                                                       const RunForcesOf<Real>& c, Real* x, Real* y,
+                                                       Real* z) {
+  Real* __restrict fx = x;
+  Real* __restrict fy = y;
+  Real* __restrict fz = z;
   const int a0 = run.a0, b0 = run.a0 + run.offset, n = run.count;
   for (int i = 0; i < n; ++i) {
     fx[a0 + i] += c.x[i];
@@ -41,6 +45,11 @@ inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run, con
     fy[b0 + i] -= c.y[i];
     fz[b0 + i] -= c.z[i];
   }
+}
+
+inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run, const RunForces& c,
+                                                       const MutableNodeArrays& forces) {
+  ApplyToEnds<double>(run, c, forces.x, forces.y, forces.z);
 }
 
 // One run's total tensions (the direct or outflow part from `tension`, plus dampers), stored and
@@ -276,22 +285,74 @@ void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, 
 namespace {
 
 // One run of the direct stiffness product; node arrays start at the run's a0.
+template <typename Real>
 inline __attribute__((always_inline)) void StiffnessRun(
-    int n, int offset, const double* __restrict k, const double* __restrict ux,
-    const double* __restrict uy, const double* __restrict uz, const double* __restrict geometric,
-    const double* __restrict vx, const double* __restrict vy, const double* __restrict vz,
-    RunForces* __restrict c, double* __restrict rate) {
+    int n, int offset, const Real* __restrict k, const Real* __restrict ux,
+    const Real* __restrict uy, const Real* __restrict uz, const Real* __restrict geometric,
+    const Real* __restrict vx, const Real* __restrict vy, const Real* __restrict vz,
+    RunForcesOf<Real>* __restrict c, Real* __restrict rate) {
   for (int i = 0; i < n; ++i) {
-    const double dx = vx[i + offset] - vx[i];
-    const double dy = vy[i + offset] - vy[i];
-    const double dz = vz[i + offset] - vz[i];
-    const double stretch = ux[i] * dx + uy[i] * dy + uz[i] * dz;
-    const double along = k[i] * stretch - geometric[i] * stretch;
+    const Real dx = vx[i + offset] - vx[i];
+    const Real dy = vy[i + offset] - vy[i];
+    const Real dz = vz[i + offset] - vz[i];
+    const Real stretch = ux[i] * dx + uy[i] * dy + uz[i] * dz;
+    const Real along = k[i] * stretch - geometric[i] * stretch;
     rate[i] = k[i] * stretch;
     // K dv on node a: -(k (u.dv) u + (T / L)(dv - u (u.dv))); node b gets the opposite.
     c->x[i] = -(along * ux[i] + geometric[i] * dx);
     c->y[i] = -(along * uy[i] + geometric[i] * dy);
     c->z[i] = -(along * uz[i] + geometric[i] * dz);
+  }
+}
+
+// The direct stiffness product over runs [run_begin, run_end) in Real: springs' k, inflows and
+// the linearisation (u, T / L) in schedule order; dv and out as x, y, z arrays;
+// accumulator_change (null: no dispersion) per node.
+template <typename Real>
+inline __attribute__((always_inline)) void StiffnessRunsOf(
+    const SpringRun* runs, int run_begin, int run_end, const Real* stiffness, const Real* inflow_a,
+    const Real* inflow_b, const Real* ux, const Real* uy, const Real* uz, const Real* geometric,
+    const Real* const dv[3], Real* const out[3], Real* accumulator_change) {
+  RunForcesOf<Real> c;
+  alignas(64) Real rate[kMax];
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = runs[r];
+    const int f = run.first;
+    StiffnessRun<Real>(run.count, run.offset, stiffness + f, ux + f, uy + f, uz + f, geometric + f,
+                       dv[0] + run.a0, dv[1] + run.a0, dv[2] + run.a0, &c, rate);
+    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
+    if (accumulator_change == nullptr) continue;
+    Real* __restrict ja = accumulator_change + run.a0;
+    Real* __restrict jb = ja + run.offset;
+    const Real* __restrict in_a = inflow_a + f;
+    const Real* __restrict in_b = inflow_b + f;
+    for (int i = 0; i < run.count; ++i) ja[i] += in_a[i] * rate[i];
+    for (int i = 0; i < run.count; ++i) jb[i] += in_b[i] * rate[i];
+  }
+}
+
+// The dispersed part, in Real: dg per node.
+template <typename Real>
+inline __attribute__((always_inline)) void DispersedStiffnessRunsOf(
+    const SpringRun* runs, int run_begin, int run_end, const Real* outflow_a, const Real* outflow_b,
+    const Real* ux, const Real* uy, const Real* uz, const Real* dg, Real* const out[3]) {
+  RunForcesOf<Real> c;
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = runs[r];
+    const Real* __restrict out_a = outflow_a + run.first;
+    const Real* __restrict out_b = outflow_b + run.first;
+    const Real* __restrict ga = dg + run.a0;
+    const Real* __restrict gb = ga + run.offset;
+    const Real* __restrict x = ux + run.first;
+    const Real* __restrict y = uy + run.first;
+    const Real* __restrict z = uz + run.first;
+    for (int i = 0; i < run.count; ++i) {
+      const Real change = out_a[i] * ga[i] + out_b[i] * gb[i];
+      c.x[i] = -change * x[i];
+      c.y[i] = -change * y[i];
+      c.z[i] = -change * z[i];
+    }
+    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
   }
 }
 
@@ -301,47 +362,39 @@ MSM_SIM_SIMD_CLONES
 void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                    const ScheduledLinearization& linearization, const NodeArrays& dv,
                    const MutableNodeArrays& out, double* accumulator_change) {
-  RunForces c;
-  alignas(64) double rate[kMax];
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = springs.runs[r];
-    const int f = run.first;
-    StiffnessRun(run.count, run.offset, springs.stiffness + f, linearization.ux + f,
-                 linearization.uy + f, linearization.uz + f, linearization.geometric + f,
-                 dv.x + run.a0, dv.y + run.a0, dv.z + run.a0, &c, rate);
-    ApplyToEnds(run, c, out);
-    if (accumulator_change == nullptr) continue;
-    double* __restrict ja = accumulator_change + run.a0;
-    double* __restrict jb = ja + run.offset;
-    const double* __restrict in_a = springs.inflow_a + f;
-    const double* __restrict in_b = springs.inflow_b + f;
-    for (int i = 0; i < run.count; ++i) ja[i] += in_a[i] * rate[i];
-    for (int i = 0; i < run.count; ++i) jb[i] += in_b[i] * rate[i];
-  }
+  const double* const from[3] = {dv.x, dv.y, dv.z};
+  double* const to[3] = {out.x, out.y, out.z};
+  StiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.stiffness, springs.inflow_a,
+                          springs.inflow_b, linearization.ux, linearization.uy, linearization.uz,
+                          linearization.geometric, from, to, accumulator_change);
 }
 
 MSM_SIM_SIMD_CLONES
 void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                             const ScheduledLinearization& linearization, const double* dg,
                             const MutableNodeArrays& out) {
-  RunForces c;
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = springs.runs[r];
-    const double* __restrict out_a = springs.outflow_a + run.first;
-    const double* __restrict out_b = springs.outflow_b + run.first;
-    const double* __restrict ga = dg + run.a0;
-    const double* __restrict gb = ga + run.offset;
-    const double* __restrict ux = linearization.ux + run.first;
-    const double* __restrict uy = linearization.uy + run.first;
-    const double* __restrict uz = linearization.uz + run.first;
-    for (int i = 0; i < run.count; ++i) {
-      const double change = out_a[i] * ga[i] + out_b[i] * gb[i];
-      c.x[i] = -change * ux[i];
-      c.y[i] = -change * uy[i];
-      c.z[i] = -change * uz[i];
-    }
-    ApplyToEnds(run, c, out);
-  }
+  double* const to[3] = {out.x, out.y, out.z};
+  DispersedStiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.outflow_a,
+                                   springs.outflow_b, linearization.ux, linearization.uy,
+                                   linearization.uz, dg, to);
+}
+
+MSM_SIM_SIMD_CLONES
+void SingleStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin, int run_end,
+                         const float* dv, long n, float* out, float* accumulator_change) {
+  const float* const from[3] = {dv, dv + n, dv + 2 * n};
+  float* const to[3] = {out, out + n, out + 2 * n};
+  StiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.stiffness, springs.inflow_a,
+                         springs.inflow_b, springs.ux, springs.uy, springs.uz, springs.geometric,
+                         from, to, accumulator_change);
+}
+
+MSM_SIM_SIMD_CLONES
+void SingleDispersedStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin,
+                                  int run_end, const float* dg, long n, float* out) {
+  float* const to[3] = {out, out + n, out + 2 * n};
+  DispersedStiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.outflow_a,
+                                  springs.outflow_b, springs.ux, springs.uy, springs.uz, dg, to);
 }
 
 }  // namespace msm_sim::core

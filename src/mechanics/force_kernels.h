@@ -94,6 +94,29 @@ void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int 
                             const ScheduledLinearization& linearization, const double* dg,
                             const MutableNodeArrays& out);
 
+/// The stiffness product's per-spring data in single precision, in the order of the (double)
+/// schedule's runs: the springs' k and eMSM coefficients, and a linearisation's u and T / L, all
+/// rounded from the double ones (ForceEvaluator with SpringPrecision::kSingle).
+struct SingleScheduledStiffness {
+  const SpringRun* runs;
+  const float* stiffness;
+  const float* inflow_a;
+  const float* inflow_b;
+  const float* outflow_a;
+  const float* outflow_b;
+  const float* ux;
+  const float* uy;
+  const float* uz;
+  const float* geometric;
+};
+
+/// StiffnessRuns in single precision: dv and out as float x, y, z blocks of n.
+void SingleStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin, int run_end,
+                         const float* dv, long n, float* out, float* accumulator_change);
+/// DispersedStiffnessRuns in single precision.
+void SingleDispersedStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin,
+                                  int run_end, const float* dg, long n, float* out);
+
 /// Copies n column-major 3-vectors into x, y, z blocks of n (the run kernels' layout).
 inline void ToNodeArrays(const double* vectors, long n, double* arrays) {
   const double* __restrict from = vectors;

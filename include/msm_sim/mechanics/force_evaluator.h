@@ -40,8 +40,11 @@ enum class SpringPrecision {
   /// in single precision: positions relative to node 0 and velocities rounded to float, tensions
   /// and forces summed in float, then added to the double forces. Twice the springs per SIMD
   /// register; positions are rounded to 6e-8 of the body's extent D, so a spring's strain to about
-  /// 6e-8 D / L. Energy, Linearize and the stiffness stay in double, and
-  /// total_tensions is not recorded. Other models evaluate in double.
+  /// 6e-8 D / L. The stiffness products (ApplyStiffness, the implicit integrator's conjugate
+  /// gradient) also run in float, on the double linearisation rounded to float (a relative
+  /// error of about 1e-6 against the double product). Energy, Linearize and the stiffness
+  /// diagonal stay in double, and total_tensions is not recorded. Other models evaluate in
+  /// double.
   kSingle,
 };
 
@@ -90,7 +93,8 @@ class ForceEvaluator {
   /// Changes max_threads (>= 1, as in the constructor).
   void set_max_threads(int max_threads);
 
-  /// The precision of later AccumulateForces calls (kDouble after construction).
+  /// The precision of later AccumulateForces calls and ApplyStiffness products (kDouble after
+  /// construction; Linearize itself always evaluates in double).
   void set_precision(SpringPrecision precision);
   SpringPrecision precision() const { return precision_; }
 
@@ -215,6 +219,11 @@ class ForceEvaluator {
   Eigen::Matrix3Xd SpringStiffnessDiagonal() const;
   /// ApplyStiffness through the run kernels (linear springs, no Baudet elements).
   void ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// The same in single precision (SpringPrecision::kSingle): v rounded to float, the products
+  /// summed in float.
+  void ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
+  /// Rounds the springs' data and the last linearisation to float for ApplySingleStiffnessRuns.
+  void RoundLinearization();
   template <SpringLaw Law>
   double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
   template <SpringLaw Law>
@@ -260,6 +269,11 @@ class ForceEvaluator {
       single_inverse_lengths_;
   // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each.
   Eigen::VectorXf single_overflows_;
+  // The stiffness product in single precision, per spring in schedule order: k, inflow a and b,
+  // outflow a and b, then the linearisation's ux, uy, uz and T / L (RoundLinearization); and
+  // its scratch: dv and K dv as x, y, z blocks of N, then dJ (N).
+  Eigen::VectorXf single_stiffness_;
+  mutable Eigen::VectorXf single_stiffness_arrays_;
   std::shared_ptr<const OrientationBarrier> barrier_;  // null: none
   Eigen::Matrix3Xd barrier_forces_;     // the single loops' barrier forces, added per share
   Eigen::Matrix3Xd barrier_positions_;  // at the last Linearize
