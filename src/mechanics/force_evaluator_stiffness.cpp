@@ -130,37 +130,57 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
                                               Eigen::Matrix3Xd* out) const {
   const Eigen::Index n = model_->num_nodes();
   const Eigen::Index count = model_->num_springs();
-  single_stiffness_arrays_.resize(7 * n);
+  const std::vector<SpringRun>& runs = scheduled_->schedule.runs;
+  // As the force loops: up to max_threads shares for 1,000 nodes or more. Each share takes a
+  // contiguous part of the runs (about equal in springs) and sums into its own K dv and dJ,
+  // added in share order: the sums depend on the thread count only.
+  const int shares = SingleShares();
+  std::vector<int> first_run(shares + 1, static_cast<int>(runs.size()));
+  for (int t = 0, r = 0, springs = 0; t < shares; ++t) {
+    for (; r < static_cast<int>(runs.size()) && springs < count * t / shares; ++r) {
+      springs += runs[r].count;
+    }
+    first_run[t] = r;
+  }
+  // dv as float x, y, z blocks of N, then per share its K dv (3 N) and dJ (N).
+  single_stiffness_arrays_.resize(7 * n + 4 * n * (shares - 1));
   float* dv = single_stiffness_arrays_.data();
-  float* product = dv + 3 * n;
-  float* dj = dv + 6 * n;
+  const auto part = [dv, n](int t) { return dv + 3 * n + 4 * n * t; };
   const double zero[3] = {0.0, 0.0, 0.0};
   ToSingleNodeArrays(v.data(), n, 0, n, zero, dv);
-  std::fill(product, product + 3 * n, 0.0f);
   const float* data = single_stiffness_.data();
-  const SingleScheduledStiffness springs{scheduled_->View().runs,
-                                         data,
-                                         data + count,
-                                         data + 2 * count,
-                                         data + 3 * count,
-                                         data + 4 * count,
-                                         data + 5 * count,
-                                         data + 6 * count,
-                                         data + 7 * count,
-                                         data + 8 * count};
-  const int runs = static_cast<int>(scheduled_->schedule.runs.size());
+  const SingleScheduledStiffness springs{runs.data(),      data,
+                                         data + count,     data + 2 * count,
+                                         data + 3 * count, data + 4 * count,
+                                         data + 5 * count, data + 6 * count,
+                                         data + 7 * count, data + 8 * count};
   const bool disperse = model_->dispersion_fraction() != 0.0;
-  if (disperse) std::fill(dj, dj + n, 0.0f);
-  SingleStiffnessRuns(springs, 0, runs, dv, n, product, disperse ? dj : nullptr);
+  RunShares(shares, [&](int t) {
+    float* product = part(t);
+    std::fill(product, product + 4 * n, 0.0f);
+    SingleStiffnessRuns(springs, first_run[t], first_run[t + 1], dv, n, product,
+                        disperse ? product + 3 * n : nullptr);
+  });
   if (disperse) {
-    for (Eigen::Index i = 0; i < n; ++i) {
-      dj[i] = static_cast<float>(dj[i] * inverse_star_weight_[i]);  // dg = dJ / W
+    float* dg = part(0) + 3 * n;
+    for (int t = 1; t < shares; ++t) {
+      const float* dj = part(t) + 3 * n;
+      for (Eigen::Index i = 0; i < n; ++i) dg[i] += dj[i];
     }
-    SingleDispersedStiffnessRuns(springs, 0, runs, dj, n, product);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      dg[i] = static_cast<float>(dg[i] * inverse_star_weight_[i]);  // dg = dJ / W
+    }
+    RunShares(shares, [&](int t) {
+      SingleDispersedStiffnessRuns(springs, first_run[t], first_run[t + 1], dg, n, part(t));
+    });
   }
   out->resize(3, n);
   for (Eigen::Index i = 0; i < n; ++i) {
-    for (int d = 0; d < 3; ++d) (*out)(d, i) = product[d * n + i];
+    for (int d = 0; d < 3; ++d) {
+      float sum = part(0)[d * n + i];
+      for (int t = 1; t < shares; ++t) sum += part(t)[d * n + i];
+      (*out)(d, i) = sum;
+    }
   }
 }
 

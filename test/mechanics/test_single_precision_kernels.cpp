@@ -215,6 +215,26 @@ TEST(SinglePrecisionEvaluator, StiffnessProductsMatchTheDoubleOnes) {
   }
 }
 
+// On two threads (a model of 1,000 nodes or more) each share sums its part of the runs and the
+// shares are added in order: the same bound against double, and the same product every time.
+TEST(SinglePrecisionEvaluator, StiffnessProductsOnTwoThreadsAgreeAndRepeat) {
+  const Model model = Block(0.49, 0.005);
+  ASSERT_GE(model.num_nodes(), 1000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2e-4, 8);
+  const Eigen::Matrix3Xd probe = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 1.0, 9);
+  ForceEvaluator exact(model);
+  exact.Linearize(x);
+  Eigen::Matrix3Xd reference, product, again;
+  exact.ApplyStiffness(probe, &reference);
+  ForceEvaluator single(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, 2);
+  single.set_precision(SpringPrecision::kSingle);
+  single.Linearize(x);
+  single.ApplyStiffness(probe, &product);
+  single.ApplyStiffness(probe, &again);
+  EXPECT_LE(ProductDifference(product, reference), 2e-6);
+  EXPECT_EQ(product, again);
+}
+
 TEST(SinglePrecisionEvaluator, OnePassDispersionLagsOnTheSingleEvaluation) {
   // One-pass dispersion: the first evaluation is two-pass (here in single precision), the later
   // ones lag (double per-spring loop) on the accumulators it left, at new positions each time.

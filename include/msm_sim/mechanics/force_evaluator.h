@@ -195,7 +195,7 @@ class ForceEvaluator {
   /// Share t of `count` node shares of the single-precision loops.
   SingleShare NodeShare(int t, int count) const;
   /// Runs task(t) for the shares t = 0 .. shares - 1, on the worker pool when there are several.
-  void RunShares(int shares, const std::function<void(int)>& task);
+  static void RunShares(int shares, const std::function<void(int)>& task);
 
   template <bool Damped>
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
