@@ -136,9 +136,9 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
   // added in share order: the sums depend on the thread count only.
   const int shares = SingleShares();
   std::vector<int> first_run(shares + 1, static_cast<int>(runs.size()));
-  for (int t = 0, r = 0, springs = 0; t < shares; ++t) {
-    for (; r < static_cast<int>(runs.size()) && springs < count * t / shares; ++r) {
-      springs += runs[r].count;
+  for (int t = 0, r = 0, taken = 0; t < shares; ++t) {
+    for (; r < static_cast<int>(runs.size()) && taken < count * t / shares; ++r) {
+      taken += runs[r].count;
     }
     first_run[t] = r;
   }
