@@ -99,10 +99,16 @@ void BM_SingleSpringLoops12k(benchmark::State& state, double poisson) {
 BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, plain, 0.25)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, emsm, 0.45)->Unit(benchmark::kMicrosecond);
 // One stiffness product (the implicit integrator's CG iteration) on the block linearised at 1 %
-// compression, run kernels against per-spring loops.
-void BM_StiffnessProduct12k(benchmark::State& state, double poisson, SpringKernels kernels) {
+// compression, run kernels against per-spring loops, and the run kernels in single precision
+// (the dynamics' default since 2026-11-26) on one thread against them in double. Each side does
+// the same: round or copy v into the kernels' layout, the direct and the dispersed pass, the
+// sum back into a 3 x N product.
+void BM_StiffnessProduct12k(benchmark::State& state, double poisson, SpringKernels kernels,
+                            SpringPrecision precision = SpringPrecision::kDouble) {
   const Model model = Block12k(poisson);
-  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels, 64);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels,
+                           precision == SpringPrecision::kSingle ? 1 : 64);
+  evaluator.set_precision(precision);
   evaluator.Linearize(model.rest_positions() * 0.99, GeometricStiffness::kDropCompression);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Random(3, model.num_nodes());
   Eigen::Matrix3Xd product;
@@ -115,6 +121,9 @@ void BM_StiffnessProduct12k(benchmark::State& state, double poisson, SpringKerne
 BENCHMARK_CAPTURE(BM_StiffnessProduct12k, emsm_per_spring, 0.49, SpringKernels::kPerSpring)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_StiffnessProduct12k, emsm_runs, 0.49, SpringKernels::kAuto)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_StiffnessProduct12k, emsm_runs_single, 0.49, SpringKernels::kAuto,
+                  SpringPrecision::kSingle)
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_SpringKernels12k, plain_per_spring, 0.25, SpringKernels::kPerSpring)
     ->Unit(benchmark::kMicrosecond);
