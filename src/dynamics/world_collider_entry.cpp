@@ -111,7 +111,7 @@ std::vector<Eigen::Isometry3d> World::BeginColliderEntries(
     Eigen::Vector3d lo, hi;
     if (!collider.enabled || options_.penetration_max_speed <= 0.0 ||
         !collider.shape.Bounds(&lo, &hi)) {
-      entry.depth = entry.depth_after = 0.0;
+      entry.depth_after = 0.0;  // dropped, once the step is accepted
       continue;
     }
     // The entry at this step's start; entry.depth itself moves on only if the step is accepted.
