@@ -24,6 +24,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/build/lattice_geometry.cpp
   ${MSM_SIM_DIR}/src/build/mesh_lattice_builder.cpp
   ${MSM_SIM_DIR}/src/build/node_centred_lattice.cpp
+  ${MSM_SIM_DIR}/src/build/outer_layer_dispersion.cpp
   ${MSM_SIM_DIR}/src/build/random_lattice_builder.cpp
   ${MSM_SIM_DIR}/src/build/random_self_calibration.cpp
   # geometry

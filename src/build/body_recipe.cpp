@@ -48,6 +48,13 @@ void Validate(const BodyRecipe& recipe) {
         "the free faces' bending correction is for node-centred cubic lattices (the "
         "element-corner, Baudet and random lattices have their own surface)");
   }
+  if (recipe.surface_dispersion != 1.0 &&
+      (recipe.lattice != LatticeKind::kCubic ||
+       recipe.construction != CubicConstruction::kNodeCentred)) {
+    throw std::invalid_argument(
+        "surface_dispersion is for node-centred cubic lattices (the element-corner, Baudet and "
+        "random lattices have their own surface)");
+  }
   if (recipe.target_nodes < 0) throw std::invalid_argument("target_nodes must be >= 0");
   if (!(recipe.target_volume >= 0.0)) throw std::invalid_argument("target_volume must be >= 0");
   if (recipe.target_nodes > kMaxBodyNodes) {
@@ -97,6 +104,7 @@ Model BuildInSolid(const BodyRecipe& recipe, double spacing) {
   options.spacing = spacing;
   options.antialias = recipe.antialias;
   options.free_face_bending = recipe.free_face_bending;
+  options.surface_dispersion = recipe.surface_dispersion;
   options.anchored_planes = recipe.anchored_planes;
   options.spring_law = recipe.spring_law;
   options.rotation_axis = recipe.rotation_axis;
@@ -114,6 +122,7 @@ Model BuildCubicInBox(const BodyRecipe& recipe, double spacing) {
   options.rotation_angle = recipe.rotation_angle;
   options.anchored_planes = recipe.anchored_planes;
   options.free_face_bending = recipe.free_face_bending;
+  options.surface_dispersion = recipe.surface_dispersion;
   return BuildCubicLattice(recipe.material, options);
 }
 

@@ -10,6 +10,7 @@
 
 #include "build/lattice_geometry.h"
 #include "build/node_centred_lattice.h"
+#include "build/outer_layer_dispersion.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 
@@ -47,8 +48,13 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
     }
   }
   if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
-  return BuildNodeCentredModel(material, cells, options.compensate_surface, options.spring_law,
-                               options.anchored_planes, options.free_face_bending);
+  NodeCentredOptions surface;
+  surface.compensate_surface = options.compensate_surface;
+  surface.spring_law = options.spring_law;
+  surface.anchored = options.anchored_planes;
+  surface.free_face_bending = options.free_face_bending;
+  surface.surface_dispersion = options.surface_dispersion;
+  return BuildNodeCentredModel(material, cells, surface);
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {
@@ -103,6 +109,11 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
 Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& options) {
   Validate(Box(options));
   lattice::ValidateAnchoredPlanes(options.anchored_planes);
+  lattice::ValidateSurfaceDispersion(options.surface_dispersion);
+  if (options.surface_dispersion != 1.0 &&
+      options.construction != CubicConstruction::kNodeCentred) {
+    throw std::invalid_argument("surface_dispersion needs the node-centred construction");
+  }
   if (!options.anchored_planes.empty() && options.construction != CubicConstruction::kNodeCentred) {
     // Element-corner nodes already lie on the surface: freezing them clamps the face.
     throw std::invalid_argument("anchored planes need the node-centred construction");

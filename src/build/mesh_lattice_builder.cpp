@@ -9,6 +9,7 @@
 
 #include "build/lattice_geometry.h"
 #include "build/node_centred_lattice.h"
+#include "build/outer_layer_dispersion.h"
 #include "geometry/box_clipping.h"
 
 namespace msm_sim::core {
@@ -22,6 +23,7 @@ void Validate(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
                  options.rotation_angle, options.max_nodes};
   Validate(box);
   lattice::ValidateAnchoredPlanes(options.anchored_planes);
+  lattice::ValidateSurfaceDispersion(options.surface_dispersion);
   if (!options.anchored_planes.empty() && options.rotation_angle != 0.0) {
     throw std::invalid_argument("anchored planes need a lattice aligned with the solid's frame");
   }
@@ -177,9 +179,13 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
 Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options) {
   Validate(solid, options);
-  return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options),
-                               options.compensate_surface, options.spring_law,
-                               options.anchored_planes, options.free_face_bending);
+  lattice::NodeCentredOptions surface;
+  surface.compensate_surface = options.compensate_surface;
+  surface.spring_law = options.spring_law;
+  surface.anchored = options.anchored_planes;
+  surface.free_face_bending = options.free_face_bending;
+  surface.surface_dispersion = options.surface_dispersion;
+  return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options), surface);
 }
 
 }  // namespace msm_sim::core

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "build/free_face_bending.h"
+#include "build/outer_layer_dispersion.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 
@@ -197,6 +198,39 @@ std::optional<FreeFaceBending> FreeFaceBendingOf(const OccupiedCells& cells, dou
   return FreeFaceBending::ForBox(cells.coords, poisson);
 }
 
+// Whether node's cell misses one of its 18 A+B neighbours: the outer node layer.
+bool IsOuter(const OccupiedCells& cells, const LatticeIndex& index, int node) {
+  for (int o = 0; o < kNumHalfOffsets; ++o) {
+    if (index.Find(cells.coords[node] + kHalfOffsets[o]) < 0 ||
+        index.Find(cells.coords[node] - kHalfOffsets[o]) < 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// For each node of the outer layer, the inner nodes among the 26 cells around it (which reach
+// past the outer layer from an edge or a corner too); empty for the others and the anchors.
+std::vector<std::vector<NodeIndex>> OuterLayerRecipients(const OccupiedCells& cells,
+                                                         const LatticeIndex& index, int num_nodes) {
+  const int n = static_cast<int>(cells.coords.size());
+  std::vector<char> outer(n);
+  for (int node = 0; node < n; ++node) outer[node] = IsOuter(cells, index, node);
+  std::vector<std::vector<NodeIndex>> recipients(num_nodes);
+  for (int node = 0; node < n; ++node) {
+    if (!outer[node]) continue;
+    for (int dz = -1; dz <= 1; ++dz) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int other = index.Find(cells.coords[node] + Eigen::Vector3i(dx, dy, dz));
+          if (other >= 0 && !outer[other]) recipients[node].push_back(other);
+        }
+      }
+    }
+  }
+  return recipients;
+}
+
 }  // namespace
 
 void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored) {
@@ -208,29 +242,34 @@ void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored) {
 }
 
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            bool compensate_surface, SpringLaw spring_law,
-                            const std::vector<AnchoredPlane>& anchored, bool free_face_bending) {
+                            const NodeCentredOptions& options) {
   const double a = cells.frame.unit;
   const double kappa = material.shear_modulus() * a;
   const double cell_mass = material.density() * a * a * a;
+  const double q = DispersionFraction(material.poisson_ratio());
   LatticeIndex index(cells.lo, cells.hi);
   ModelBuilder builder(material);
-  builder.SetSpringLaw(spring_law);
-  builder.SetDispersionFraction(DispersionFraction(material.poisson_ratio()));
+  builder.SetSpringLaw(options.spring_law);
+  builder.SetDispersionFraction(q);
   const double occupied = AddCellNodes(cells, cell_mass, &index, &builder);
   EndShares shares;
   const std::vector<SpringIndex> spring_of =
       AddHalfOffsetSprings(cells, index, kappa, &builder, &shares);
-  if (compensate_surface) {
-    MirrorMissingHalfSprings(cells, index, kappa, spring_of, anchored, &builder, &shares);
+  if (options.compensate_surface) {
+    MirrorMissingHalfSprings(cells, index, kappa, spring_of, options.anchored, &builder, &shares);
   }
   const std::optional<FreeFaceBending> bending =
-      free_face_bending && compensate_surface ? FreeFaceBendingOf(cells, material.poisson_ratio())
-                                              : std::nullopt;
+      options.free_face_bending && options.compensate_surface
+          ? FreeFaceBendingOf(cells, material.poisson_ratio())
+          : std::nullopt;
   std::vector<double> factors = ScaleForFreeFaceBending(cells, bending, &builder);
-  AddFaceAnchors(cells, index, anchored, kappa, compensate_surface, 1e-6 * cell_mass, bending,
-                 &builder, &shares, &factors);
+  AddFaceAnchors(cells, index, options.anchored, kappa, options.compensate_surface,
+                 1e-6 * cell_mass, bending, &builder, &shares, &factors);
   SetDispersionWeightsFromShares(shares, factors, &builder);
+  if (options.surface_dispersion < 1.0 && q > 0.0) {
+    ShiftOuterLayerDispersion(OuterLayerRecipients(cells, index, builder.num_nodes()),
+                              options.surface_dispersion, &builder);
+  }
   return builder.Build(occupied * a * a * a, a);
 }
 

@@ -28,6 +28,23 @@ struct OccupiedCells {
 /// zero normal.
 void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored);
 
+/// How BuildNodeCentredModel treats the body's surface.
+struct NodeCentredOptions {
+  /// Mirror the missing half-springs of surface cells onto the opposite spring of the same node
+  /// (see BuildCubicLattice).
+  bool compensate_surface = true;
+  SpringLaw spring_law = SpringLaw::kLinear;
+  /// Surface planes held by face anchors (AnchoredPlane, docs/physics.md §2.1 "Face anchors").
+  std::vector<AnchoredPlane> anchored;
+  /// With compensate_surface, cells that fill a box (all full) get FreeFaceBending's stiffness
+  /// factors on their springs and face anchors, and dispersion weights divided by the same
+  /// factors so that the eMSM dispersion (which weighs v k) is unchanged.
+  bool free_face_bending = false;
+  /// In (0, 1]: the share of its eMSM bulk the outer node layer keeps, the rest moved onto the
+  /// layer beneath (ShiftOuterLayerDispersion). Applies where the dispersion adds bulk (q > 0).
+  double surface_dispersion = 1.0;
+};
+
 /// Builds the calibrated node-centred model: a node at each cell centre with mass rho a^3 chi,
 /// A+B springs k = (kappa / 2)(chi_i + chi_j) with kappa = mu a (each end cell contributes the
 /// half of the spring that lies in it, weighted by how much of that cell is body), eMSM
@@ -35,14 +52,11 @@ void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored);
 /// cells mirrored onto the opposite spring of the same node (see BuildCubicLattice). The model
 /// volume is a^3 sum chi. A missing neighbour across one of `anchored` (positions in the frame's
 /// coordinates) gets a face anchor instead of the mirrored half-spring (AnchoredPlane,
-/// docs/physics.md §2.1 "Face anchors"), whether or not compensate_surface is set. With
-/// free_face_bending, cells that fill a box (all full) get FreeFaceBending's stiffness factors on
-/// their springs and face anchors, and dispersion weights divided by the same factors so that
-/// the eMSM dispersion (which weighs v k) is unchanged.
-/// Precondition: coords non-empty and unique, fractions in (0, 1], anchored normals non-zero.
+/// docs/physics.md §2.1 "Face anchors"), whether or not compensate_surface is set. The outer node
+/// layer (the cells missing one of their 18 neighbours) is what surface_dispersion softens.
+/// Precondition: coords non-empty and unique, fractions in (0, 1], anchored normals non-zero,
+/// surface_dispersion in (0, 1].
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            bool compensate_surface, SpringLaw spring_law,
-                            const std::vector<AnchoredPlane>& anchored = {},
-                            bool free_face_bending = false);
+                            const NodeCentredOptions& options);
 
 }  // namespace msm_sim::core::lattice

@@ -88,6 +88,20 @@ void AddMaterialOptions(CLI::App* command, ModelArguments* model, Body body) {
   if (body != Body::kDefaultBlock) density_option->capture_default_str();
 }
 
+// A share in (0, 1]: CLI::Range includes 0 and PositiveNumber's message names a range up to
+// the largest double.
+CLI::Validator ShareInZeroToOne() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        double value = 0.0;
+        if (!CLI::detail::lexical_cast(text, value) || !(value > 0.0 && value <= 1.0)) {
+          return "must lie in (0, 1], got " + text;
+        }
+        return "";
+      },
+      "SHARE in (0, 1]");
+}
+
 // The options each lattice reads: construction and rotation (cubic), seed, distances and
 // stiffness law (random), and the spring and dispersion laws of every lattice.
 void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<double>* rotate) {
@@ -111,6 +125,12 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
   command->add_flag("--free-face-bending", model->free_face_bending,
                     "node-centred cubic box: stiffen the outer layers' springs (and soften the "
                     "interior's) to restore the free faces' bending stiffness");
+  command
+      ->add_option("--surface-dispersion", model->surface_dispersion,
+                   "node-centred cubic: the share of its eMSM bulk the outer node layer keeps, "
+                   "in (0, 1], the rest moved one layer in (a longer stable step near nu = 0.5)")
+      ->capture_default_str()
+      ->check(ShareInZeroToOne());
   command->add_option("--spring", model->spring, "spring tension law: linear | nonlinear")
       ->capture_default_str()
       ->check(CLI::IsMember({"linear", "nonlinear"}));

@@ -26,11 +26,12 @@ struct ModelArguments {
   bool self_calibrate = false;               ///< random only: docs/physics.md §2.2
   std::string spring = "linear";             ///< linear | nonlinear
   std::string dispersion = "two-pass";       ///< two-pass | one-pass
-  std::string mesh;                ///< closed mesh file filling the body instead of the --size box
-  double scale = 1.0;              ///< mesh coordinates times this are metres
-  bool antialias = true;           ///< mesh + cubic: docs/physics.md §5 anti-aliasing
-  bool free_face_bending = false;  ///< node-centred cubic: docs/physics.md §2.1
-  int target_nodes = 0;            ///< > 0: choose the spacing for about this many nodes
+  std::string mesh;                 ///< closed mesh file filling the body instead of the --size box
+  double scale = 1.0;               ///< mesh coordinates times this are metres
+  bool antialias = true;            ///< mesh + cubic: docs/physics.md §5 anti-aliasing
+  bool free_face_bending = false;   ///< node-centred cubic: docs/physics.md §2.1
+  double surface_dispersion = 1.0;  ///< node-centred cubic: docs/physics.md §7, in (0, 1]
+  int target_nodes = 0;             ///< > 0: choose the spacing for about this many nodes
 };
 
 enum class LabCommand {

@@ -53,6 +53,7 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
                                                            : core::CubicConstruction::kNodeCentred;
   recipe.antialias = arguments.antialias;
   recipe.free_face_bending = arguments.free_face_bending;
+  recipe.surface_dispersion = arguments.surface_dispersion;
   recipe.seed = arguments.seed;
   recipe.random_min_distance = arguments.min_dist;
   recipe.random_max_distance = arguments.max_dist;

@@ -79,6 +79,7 @@ core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& 
   recipe.spring_law = config.spring;
   recipe.antialias = config.antialias;
   recipe.free_face_bending = config.free_face_bending;
+  recipe.surface_dispersion = config.surface_dispersion;
   recipe.seed = config.seed;
   for (const ClampConfig& clamp : config.clamps) {
     const ClampFace face = FaceOfClamp(config, clamp, core::RecipeSpacing(recipe));

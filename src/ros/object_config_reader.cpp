@@ -37,6 +37,7 @@ const std::set<std::string> kObjectKeys = {"name",
                                            "spring",
                                            "antialias",
                                            "free_face_bending",
+                                           "surface_dispersion",
                                            "seed",
                                            "material",
                                            "youngs",
@@ -238,6 +239,15 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   config.free_face_bending = Flag(object, "free_face_bending", false, path);
   if (config.free_face_bending && config.model != core::LatticeKind::kCubic) {
     Fail(path + "/free_face_bending", "applies to cubic models only");
+  }
+  config.surface_dispersion = Number(object, "surface_dispersion", 1.0, path);
+  if (!(config.surface_dispersion > 0.0 && config.surface_dispersion <= 1.0)) {
+    Fail(path + "/surface_dispersion",
+         "must lie in (0, 1] (the share of its bulk the outer node layer keeps; 1: off), got " +
+             std::to_string(config.surface_dispersion));
+  }
+  if (config.surface_dispersion != 1.0 && config.model != core::LatticeKind::kCubic) {
+    Fail(path + "/surface_dispersion", "applies to cubic models only");
   }
   config.seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
   ReadMaterial(object, materials, path, &config);

@@ -55,7 +55,9 @@ struct ObjectConfig {
   core::SpringLaw spring = core::SpringLaw::kLinear;  ///< YAML: linear | nonlinear
   bool antialias = true;
   bool free_face_bending = false;  ///< docs/physics.md §2.1; boxes of whole cells only
-  std::uint64_t seed = 1;          ///< random models
+  /// docs/physics.md §7: the share of its eMSM bulk the outer node layer keeps, in (0, 1]
+  double surface_dispersion = 1.0;
+  std::uint64_t seed = 1;                             ///< random models
   double youngs = 0.0, poisson = 0.0, density = 0.0;  ///< Pa, -, kg/m^3
   double damping = 0.0;                               ///< s, spring dampers c = damping k
   double friction = 0.5;                              ///< Coulomb coefficient of the surface

@@ -364,6 +364,12 @@ TEST(BodyRecipe, RejectsCombinationsNoBuilderTakes) {
   random_bending.free_face_bending = true;
   ExpectInvalid(random_bending, "bending correction is for node-centred cubic lattices");
 
+  BodyRecipe random_softer(kMaterial);
+  random_softer.box_size = kBox;
+  random_softer.lattice = LatticeKind::kRandom;
+  random_softer.surface_dispersion = 0.5;
+  ExpectInvalid(random_softer, "surface_dispersion is for node-centred cubic lattices");
+
   BodyRecipe negative_count(kMaterial);
   negative_count.box_size = kBox;
   negative_count.target_nodes = -5;

@@ -21,10 +21,11 @@ constexpr double kDepth = 0.05 * kRadius;  // 0.5 mm
 constexpr double kSpacing = 0.00055;       // a = sqrt(R D) / 4.07
 constexpr double kSide = 41 * kSpacing;    // 22.55 mm >= 10 sqrt(R D) = 22.36 mm
 
-void ExpectHertz(double poisson) {
+void ExpectHertz(double poisson, double surface_dispersion = 1.0) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d::Constant(kSide);
   lattice.spacing = kSpacing;
+  lattice.surface_dispersion = surface_dispersion;
   const auto model = std::make_shared<const Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice));
   ASSERT_EQ(model->num_nodes(), 41 * 41 * 41);
@@ -35,8 +36,10 @@ void ExpectHertz(double poisson) {
   options.samples = 10;
   const IndentationExperimentResult result = RunIndentationExperiment(model, options);
   ASSERT_FALSE(result.profile.empty());
-  std::printf("  nu %.2f, %d nodes: depth [mm], force [N], Hertz [N], ratio\n", poisson,
-              model->num_nodes());
+  std::printf(
+      "  nu %.2f, surface dispersion %.2f, %d nodes: depth [mm], force [N], Hertz [N], "
+      "ratio\n",
+      poisson, surface_dispersion, model->num_nodes());
   for (const IndentationSample& row : result.profile) {
     std::printf("  %.3f  %.5f  %.5f  %.3f\n", 1e3 * row.depth, row.force, row.hertz_force,
                 row.force / row.hertz_force);
@@ -50,6 +53,11 @@ void ExpectHertz(double poisson) {
 TEST(HertzContact, SphereIntoABlockTenContactRadiiWideMatchesHertzAtNu025) { ExpectHertz(0.25); }
 
 TEST(HertzContact, SphereIntoABlockTenContactRadiiWideMatchesHertzAtNu045) { ExpectHertz(0.45); }
+
+// The softer outer layer (CubicLatticeOptions::surface_dispersion, docs/physics.md §7) at the
+// nu where it is meant to be used: the contact, resolved, still matches Hertz (measured 0.939
+// at 0.48 mm against 0.943 without it).
+TEST(HertzContact, WithASofterOuterLayerMatchesHertzAtNu049) { ExpectHertz(0.49, 0.5); }
 
 }  // namespace
 }  // namespace msm_sim::core

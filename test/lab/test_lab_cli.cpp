@@ -129,6 +129,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
                  "--poisson 0.25 --dispersion three-pass",
                  2, "dispersion"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.45 --surface-dispersion 0",
+                 2, "--surface-dispersion"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.45 --surface-dispersion 1.5",
+                 2, "--surface-dispersion"},
+        BadInput{"compression --model random --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.45 --surface-dispersion 0.5",
+                 2, "surface_dispersion is for node-centred cubic"},
         BadInput{"poisson-sweep --model cubic --targets 0.2 0.7", 2, "Poisson"},
         BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
                  "--poisson 0.4 --dispersion one-pass",

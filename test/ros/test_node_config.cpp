@@ -103,6 +103,13 @@ TEST(ObjectConfig, FreeFaceBendingIsRead) {
   EXPECT_TRUE(LoadBoxObject("free_face_bending", true).free_face_bending);
 }
 
+// objects[]/surface_dispersion (docs/physics.md §7): 1 (off) unless asked for, and what the
+// object's model is built with.
+TEST(ObjectConfig, SurfaceDispersionIsRead) {
+  EXPECT_EQ(LoadBoxObject().surface_dispersion, 1.0);
+  EXPECT_EQ(LoadBoxObject("surface_dispersion", 0.5).surface_dispersion, 0.5);
+}
+
 // objects[]/orientation_threshold (docs/physics.md §4): off unless asked for; outside (0, 1)
 // the configuration is refused, naming the parameter.
 TEST(ObjectConfig, OrientationThresholdIsRead) {

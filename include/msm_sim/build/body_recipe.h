@@ -96,6 +96,10 @@ struct BodyRecipe {
   /// free_face_bending); it applies when the lattice's cells fill a box (an unrotated box, or a
   /// box-shaped solid aligned with the lattice). Default off.
   bool free_face_bending = false;
+  /// Node-centred cubic: the share of its eMSM bulk the outer node layer keeps, in (0, 1]
+  /// (CubicLatticeOptions::surface_dispersion). Default 1 (off); other values are refused for
+  /// other lattices.
+  double surface_dispersion = 1.0;
   /// Random: the random sequential addition's seed; same seed, same model. Default 1.
   std::uint64_t seed = 1;
   /// Random: minL and maxL as multiples of l, 0 < min < max. Defaults 0.8 and 1.9 (what both

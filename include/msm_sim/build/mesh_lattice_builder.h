@@ -38,6 +38,9 @@ struct MeshCubicLatticeOptions {
   /// The free faces' bending correction (CubicLatticeOptions::free_face_bending); it applies only
   /// when the kept cells fill a box of whole cells (a box mesh aligned with the lattice).
   bool free_face_bending = false;
+  /// The outer node layer's share of the eMSM bulk, in (0, 1] (CubicLatticeOptions::
+  /// surface_dispersion); the outer layer is the cells missing one of their 18 neighbours.
+  double surface_dispersion = 1.0;
   SpringLaw spring_law = SpringLaw::kLinear;
   int max_nodes = 2'000'000;
 };
@@ -49,8 +52,8 @@ struct MeshCubicLatticeOptions {
 ///
 /// Throws std::invalid_argument for a non-positive or non-finite spacing, a spacing larger than
 /// the smallest bounding-box edge, min_fraction outside [0, 1), a bad
-/// rotation, anchored planes on a rotated lattice or with a non-finite point or zero normal, no
-/// cell inside, or more than max_nodes nodes.
+/// rotation, anchored planes on a rotated lattice or with a non-finite point or zero normal, a
+/// surface_dispersion outside (0, 1], no cell inside, or more than max_nodes nodes.
 Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options);
 

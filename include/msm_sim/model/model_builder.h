@@ -31,6 +31,10 @@ class ModelBuilder {
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
   double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
+  double spring_rest_length(SpringIndex s) const { return rest_length_[s]; }
+  /// The dispersion weights of spring s at its ends a and b (SetDispersionWeight).
+  double dispersion_weight_a(SpringIndex s) const { return weight_a_[s]; }
+  double dispersion_weight_b(SpringIndex s) const { return weight_b_[s]; }
   /// Adds a Baudet correction element (see Model::correction_edges): 4 x-, 4 y- and 4 z-edge
   /// springs and the coefficient c (N/m). Precondition: the springs exist.
   void AddCorrectionElement(const std::array<SpringIndex, 12>& edges, double coefficient) {
