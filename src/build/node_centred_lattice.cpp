@@ -209,26 +209,27 @@ bool IsOuter(const OccupiedCells& cells, const LatticeIndex& index, int node) {
   return false;
 }
 
-// For each node of the outer layer, the inner nodes among the 26 cells around it (which reach
-// past the outer layer from an edge or a corner too); empty for the others and the anchors.
-std::vector<std::vector<NodeIndex>> OuterLayerRecipients(const OccupiedCells& cells,
-                                                         const LatticeIndex& index, int num_nodes) {
+// The outer layer's nodes, each with the inner nodes among the 26 cells around it (which reach
+// past the outer layer from an edge or a corner too).
+OuterLayerNeighbourhoods OuterLayerOf(const OccupiedCells& cells, const LatticeIndex& index) {
   const int n = static_cast<int>(cells.coords.size());
   std::vector<char> outer(n);
   for (int node = 0; node < n; ++node) outer[node] = IsOuter(cells, index, node);
-  std::vector<std::vector<NodeIndex>> recipients(num_nodes);
+  OuterLayerNeighbourhoods layer;
   for (int node = 0; node < n; ++node) {
     if (!outer[node]) continue;
     for (int dz = -1; dz <= 1; ++dz) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dx = -1; dx <= 1; ++dx) {
           const int other = index.Find(cells.coords[node] + Eigen::Vector3i(dx, dy, dz));
-          if (other >= 0 && !outer[other]) recipients[node].push_back(other);
+          if (other >= 0 && !outer[other]) layer.recipients.push_back(other);
         }
       }
     }
+    layer.givers.push_back(node);
+    layer.offsets.push_back(static_cast<int>(layer.recipients.size()));
   }
-  return recipients;
+  return layer;
 }
 
 }  // namespace
@@ -267,8 +268,7 @@ Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells
                  1e-6 * cell_mass, bending, &builder, &shares, &factors);
   SetDispersionWeightsFromShares(shares, factors, &builder);
   if (options.surface_dispersion < 1.0 && q > 0.0) {
-    ShiftOuterLayerDispersion(OuterLayerRecipients(cells, index, builder.num_nodes()),
-                              options.surface_dispersion, &builder);
+    ShiftOuterLayerDispersion(OuterLayerOf(cells, index), options.surface_dispersion, &builder);
   }
   return builder.Build(occupied * a * a * a, a);
 }

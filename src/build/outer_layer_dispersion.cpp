@@ -9,10 +9,14 @@
 namespace msm_sim::core::lattice {
 namespace {
 
-// The fitting below stops when every recipient's share is within this of its target (a box
-// takes about 200 sweeps), or after this many sweeps (an odd shape may not allow exact shares).
+// The fitting below stops when every recipient's total is within this of its target, or after
+// this many sweeps. The neighbourhoods need not allow exact totals, and near the limit the
+// fitting crawls: on the realtime block (20 x 20 x 10 nodes) the largest miss is 3.7 % after 100
+// sweeps and 3.2 % from 300 on, on 100 x 100 x 25 nodes 6.9 % and 1.4 % after 1,000. The stable
+// step does not see the difference (89.8 us on the realtime block after 50 or 1,000 sweeps); the
+// givers' totals, hence the body's summed bulk, are exact after every sweep.
 constexpr double kFittingTolerance = 1e-6;
-constexpr int kMaxFittingSweeps = 1000;
+constexpr int kMaxFittingSweeps = 100;
 
 // W_x = sum of v k L0^2 over node x's spring ends.
 std::vector<double> StarWeights(const ModelBuilder& builder) {
@@ -35,66 +39,74 @@ void ValidateSurfaceDispersion(double keep) {
   }
 }
 
-void ShiftOuterLayerDispersion(const std::vector<std::vector<NodeIndex>>& recipients, double keep,
+void ShiftOuterLayerDispersion(const OuterLayerNeighbourhoods& layer, double keep,
                                ModelBuilder* builder) {
-  const int n = builder->num_nodes();
   const std::vector<double> star = StarWeights(*builder);
-  // The bulk each outer node gives up (give > 0: a giver), and the nodes that may receive it.
-  std::vector<double> give(n, 0.0);
-  std::vector<char> is_recipient(n, 0);
+  // The recipients numbered compactly: slot[node] is a recipient's number, -1 for other nodes.
+  std::vector<int> slot(builder->num_nodes(), -1);
+  std::vector<NodeIndex> receiving;
+  std::vector<int> edge(layer.recipients.size());
+  for (std::size_t e = 0; e < layer.recipients.size(); ++e) {
+    const NodeIndex j = layer.recipients[e];
+    if (slot[j] < 0) {
+      slot[j] = static_cast<int>(receiving.size());
+      receiving.push_back(j);
+    }
+    edge[e] = slot[j];
+  }
+  const int givers = static_cast<int>(layer.givers.size());
+  std::vector<double> give(givers, 0.0);
   double given = 0.0;
-  for (NodeIndex node = 0; node < n; ++node) {
-    if (recipients[node].empty() || !(star[node] > 0.0)) continue;
-    give[node] = (1.0 - keep) * star[node];
-    given += give[node];
-    for (const NodeIndex j : recipients[node]) is_recipient[j] = 1;
+  for (int g = 0; g < givers; ++g) {
+    if (layer.offsets[g + 1] == layer.offsets[g]) continue;  // nowhere to go: keeps its bulk
+    give[g] = (1.0 - keep) * star[layer.givers[g]];
+    given += give[g];
   }
-  double recipient_star = 0.0;
-  for (NodeIndex j = 0; j < n; ++j) recipient_star += is_recipient[j] ? star[j] : 0.0;
-  if (!(given > 0.0) || !(recipient_star > 0.0)) return;
-  // Iterative proportional fitting of the plan T_xj = a_x b_j over the neighbourhoods: each giver
-  // gives exactly its share (the last update), each recipient j receives as nearly as the
-  // neighbourhoods allow its share of the total if every recipient's star grew by the same factor
-  // (target_of(j); exactly on a box). A plan that followed
-  // each giver's neighbourhood alone piles the bulk of edges and corners onto the few nodes
-  // beneath them, which then set the step.
-  std::vector<double> a(n, 1.0), b(n, 1.0), column(n, 0.0);
-  auto target_of = [&](NodeIndex j) { return given * star[j] / recipient_star; };
-  auto sum_columns = [&] {
-    std::fill(column.begin(), column.end(), 0.0);
-    for (NodeIndex x = 0; x < n; ++x) {
-      if (give[x] == 0.0) continue;
-      for (const NodeIndex j : recipients[x]) column[j] += a[x];
-    }
-  };
+  double receiving_star = 0.0;
+  for (const NodeIndex j : receiving) receiving_star += star[j];
+  if (!(given > 0.0) || !(receiving_star > 0.0)) return;
+  // Recipient r's target: its share of `given` if every recipient's W grew by the same factor.
+  std::vector<double> target(receiving.size());
+  for (std::size_t r = 0; r < receiving.size(); ++r) {
+    target[r] = given * star[receiving[r]] / receiving_star;
+  }
+
+  // Iterative proportional fitting of the plan T_gr = a_g b_r over the neighbourhoods. A split
+  // that followed each giver's neighbourhood alone piled the bulk of edges and corners onto the
+  // few nodes beneath them, which then set the step.
+  std::vector<double> a(givers, 1.0), b(receiving.size(), 1.0), column(receiving.size());
   for (int sweep = 0; sweep < kMaxFittingSweeps; ++sweep) {
-    sum_columns();
-    double mismatch = 0.0;  // of the recipients' shares under the current plan
-    for (NodeIndex j = 0; j < n; ++j) {
-      if (is_recipient[j]) {
-        mismatch = std::max(mismatch, std::abs(column[j] * b[j] / target_of(j) - 1.0));
-      }
+    std::fill(column.begin(), column.end(), 0.0);
+    for (int g = 0; g < givers; ++g) {
+      if (give[g] == 0.0) continue;
+      for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) column[edge[e]] += a[g];
     }
-    if (sweep > 0 && mismatch < kFittingTolerance) break;  // the givers' sums are exact
-    for (NodeIndex j = 0; j < n; ++j) {
-      if (is_recipient[j]) b[j] = target_of(j) / column[j];
+    double mismatch = 0.0;  // of the recipients' totals under the current plan
+    for (std::size_t r = 0; r < receiving.size(); ++r) {
+      mismatch = std::max(mismatch, std::abs(column[r] * b[r] / target[r] - 1.0));
     }
-    for (NodeIndex x = 0; x < n; ++x) {
-      if (give[x] == 0.0) continue;
+    // The givers' totals are exact here (the last update); stop if the recipients' are too.
+    if (sweep > 0 && mismatch < kFittingTolerance) break;
+    for (std::size_t r = 0; r < receiving.size(); ++r) b[r] = target[r] / column[r];
+    for (int g = 0; g < givers; ++g) {
+      if (give[g] == 0.0) continue;
       double row = 0.0;
-      for (const NodeIndex j : recipients[x]) row += b[j];
-      a[x] = give[x] / row;
+      for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) row += b[edge[e]];
+      a[g] = give[g] / row;
     }
   }
-  std::vector<double> scale(n, 1.0);
-  std::vector<double> received(n, 0.0);
-  for (NodeIndex x = 0; x < n; ++x) {
-    if (give[x] == 0.0) continue;
-    scale[x] = keep;
-    for (const NodeIndex j : recipients[x]) received[j] += a[x] * b[j];
+
+  std::vector<double> scale(builder->num_nodes(), 1.0);
+  std::vector<double> received(receiving.size(), 0.0);
+  for (int g = 0; g < givers; ++g) {
+    if (give[g] == 0.0) continue;
+    scale[layer.givers[g]] = keep;
+    for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) {
+      received[edge[e]] += a[g] * b[edge[e]];
+    }
   }
-  for (NodeIndex j = 0; j < n; ++j) {
-    if (is_recipient[j]) scale[j] = 1.0 + received[j] / star[j];
+  for (std::size_t r = 0; r < receiving.size(); ++r) {
+    scale[receiving[r]] = 1.0 + received[r] / star[receiving[r]];
   }
   for (SpringIndex s = 0; s < builder->num_springs(); ++s) {
     const NodeIndex node_a = builder->spring_node_a(s);
