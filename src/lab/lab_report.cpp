@@ -25,7 +25,12 @@ void PrintModelTable(const ModelArguments& arguments, const core::ModelStatistic
           : arguments.construction == "corner" ? " (element-corner)"
                                                : " (node-centred)")
       << (arguments.poisson != 0.25 && arguments.model != "baudet" ? ", extended MSM" : "") << ", "
-      << arguments.spring << " springs\n"
+      << arguments.spring << " springs";
+  if (arguments.surface_dispersion != 1.0) {
+    out << ", outer layer keeping " << arguments.surface_dispersion
+        << " of its bulk (--surface-dispersion)";
+  }
+  out << "\n"
       << "nodes            " << stats.nodes << "\n"
       << "springs          " << stats.springs << "\n"
       << "<S>              " << stats.mean_springs_per_node << "\n"
