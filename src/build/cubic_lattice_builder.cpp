@@ -48,13 +48,7 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
     }
   }
   if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
-  NodeCentredOptions surface;
-  surface.compensate_surface = options.compensate_surface;
-  surface.spring_law = options.spring_law;
-  surface.anchored = options.anchored_planes;
-  surface.free_face_bending = options.free_face_bending;
-  surface.surface_dispersion = options.surface_dispersion;
-  return BuildNodeCentredModel(material, cells, surface);
+  return BuildNodeCentredModel(material, cells, SurfaceOptionsOf(options));
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {

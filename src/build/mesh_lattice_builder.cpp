@@ -179,13 +179,8 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
 Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options) {
   Validate(solid, options);
-  lattice::NodeCentredOptions surface;
-  surface.compensate_surface = options.compensate_surface;
-  surface.spring_law = options.spring_law;
-  surface.anchored = options.anchored_planes;
-  surface.free_face_bending = options.free_face_bending;
-  surface.surface_dispersion = options.surface_dispersion;
-  return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options), surface);
+  return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options),
+                               SurfaceOptionsOf(options));
 }
 
 }  // namespace msm_sim::core

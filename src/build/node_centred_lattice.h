@@ -45,6 +45,19 @@ struct NodeCentredOptions {
   double surface_dispersion = 1.0;
 };
 
+/// The surface options of a builder's options (CubicLatticeOptions, MeshCubicLatticeOptions),
+/// which name them alike.
+template <typename BuilderOptions>
+NodeCentredOptions SurfaceOptionsOf(const BuilderOptions& options) {
+  NodeCentredOptions surface;
+  surface.compensate_surface = options.compensate_surface;
+  surface.spring_law = options.spring_law;
+  surface.anchored = options.anchored_planes;
+  surface.free_face_bending = options.free_face_bending;
+  surface.surface_dispersion = options.surface_dispersion;
+  return surface;
+}
+
 /// Builds the calibrated node-centred model: a node at each cell centre with mass rho a^3 chi,
 /// A+B springs k = (kappa / 2)(chi_i + chi_j) with kappa = mu a (each end cell contributes the
 /// half of the spring that lies in it, weighted by how much of that cell is body), eMSM
