@@ -51,9 +51,11 @@ const CalculixCantileverResult& Reference(double poisson) {
   return solved.emplace(poisson, RunCalculixCantilever(box)).first->second;
 }
 
-Model AnchoredBar(double poisson, int cells_across, bool free_face_bending) {
+Model AnchoredBar(double poisson, int cells_across, bool free_face_bending,
+                  double surface_dispersion = 1.0) {
   CubicLatticeOptions options;
   options.free_face_bending = free_face_bending;
+  options.surface_dispersion = surface_dispersion;
   options.size = Eigen::Vector3d(kLength, kSide, kSide);
   options.spacing = kSide / cells_across;
   options.anchored_planes = {AnchoredPlane{}};  // the face x = 0
@@ -73,6 +75,7 @@ struct Case {
   double poisson;
   int cells_across;
   bool free_face_bending = true;
+  double surface_dispersion = 1.0;  // CubicLatticeOptions::surface_dispersion
 };
 
 struct Comparison {
@@ -82,7 +85,8 @@ struct Comparison {
 };
 
 Comparison CompareWithCalculix(const Case& c) {
-  const Model model = AnchoredBar(c.poisson, c.cells_across, c.free_face_bending);
+  const Model model =
+      AnchoredBar(c.poisson, c.cells_across, c.free_face_bending, c.surface_dispersion);
   CantileverExperimentOptions options;
   options.body_size = Eigen::Vector3d(kLength, kSide, kSide);
   options.total_force = kForce;
@@ -104,9 +108,10 @@ Comparison CompareWithCalculix(const Case& c) {
     }
   }
   std::printf(
-      "  nu %.2f, %2d across%s: end face %.5f mm, CalculiX %.5f mm (%+.2f %%); old-style tip "
+      "  nu %.2f, %2d across%s%s: end face %.5f mm, CalculiX %.5f mm (%+.2f %%); old-style tip "
       "%.5f mm; profile worst %+.2f %% of the end's at x = %.4f m\n",
-      c.poisson, n, c.free_face_bending ? "" : " (uncorrected)", 1e3 * lattice.end_face_deflection,
+      c.poisson, n, c.free_face_bending ? "" : " (uncorrected)",
+      c.surface_dispersion < 1.0 ? " (softer outer layer)" : "", 1e3 * lattice.end_face_deflection,
       1e3 * fem.end_face_deflection, 100.0 * result.end_error, 1e3 * lattice.tip_deflection,
       100.0 * result.profile_error, result.profile_x);
   return result;
@@ -148,6 +153,15 @@ TEST_P(CantileverFacesCoarse, WithoutTheCorrectionTheErrorIsTheBendingDeficit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(IssueBox, CantileverFacesCoarse, ::testing::Values(0.0, 0.25, 0.4, 0.49));
+
+// The softer outer layer (CubicLatticeOptions::surface_dispersion = 0.5, docs/physics.md §7)
+// where it is recommended, nu = 0.49: bending stresses peak in the outer layer, whose bulk it
+// halves, yet 8 cells across still bend within 3 % of CalculiX (measured +1.2 %, +0.6 % without).
+TEST(CantileverFacesSofterOuterLayer, WithinThreePercentOfCalculixAtEightCellsAcrossAtNu049) {
+  const Comparison c = CompareWithCalculix({0.49, 8, true, 0.5});
+  EXPECT_LT(std::abs(c.end_error), 0.03);
+  EXPECT_LT(std::abs(c.profile_error), 0.03) << "at x = " << c.profile_x;
+}
 
 // The derivation behind the anchors (docs/physics.md §2.1 "Face anchors"): with the anchors moved
 // by the same uniform strain as the lattice, a node of the first layer at least two cells from
