@@ -1,8 +1,9 @@
 // The softer outer layer of the eMSM dispersion (src/build/outer_layer_dispersion.h,
 // CubicLatticeOptions::surface_dispersion, docs/physics.md §7 "A softer outer layer"). Its
 // effect on the stable step is in test/mechanics/test_stable_time_step.cpp, on compression in
-// test/build/test_emsm_calibration.cpp and on a resolved contact in
-// test/experiments/test_hertz_contact.cpp.
+// test/build/test_calibration.cpp, on a resolved contact in
+// test/experiments/test_hertz_contact.cpp, on a grip in test_grip_experiment.cpp and on bending
+// against CalculiX in test_cantilever_faces.cpp.
 #include "build/outer_layer_dispersion.h"
 
 #include <algorithm>
