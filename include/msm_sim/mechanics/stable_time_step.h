@@ -25,26 +25,30 @@ struct StableTimeStepOptions {
 ///
 /// Position Verlet (the dampers at the step's start velocity) is stable while
 /// M - (dt^2 / 4) K - (dt / 2) C stays positive semi-definite; the step returned is the largest dt
-/// with (dt^2 / 4) omega_max^2 + (dt / 2) beta omega_c^2 <= 1, a sufficient condition since K and
-/// C are positive semi-definite. Without dampers it is 2 / omega_max; with dampers C = beta K
-/// (plain MSM) it is (2 / omega_max)(sqrt(1 + zeta^2) - zeta), zeta = beta omega_max / 2. The
-/// dampers act on the springs' own k only (C / beta = sum k u u^T), not on the eMSM dispersion,
-/// so at nu = 0.49, where the dispersion makes the bulk mode 7 times faster, omega_c << omega_max
-/// and the dampers shorten the step much less than Rayleigh damping beta K would
-/// (docs/physics.md §7). omega_max^2 is the largest eigenvalue of M^-1/2 K M^-1/2 at rest, and
-/// omega_c^2 that of M^-1/2 (C / beta) M^-1/2, both found from the exact
-/// stiffness, so it counts the eMSM dispersion, Baudet's correction and any mass distribution;
-/// the per-node estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which at nu = 0.49
-/// stiffens the bulk mode 7-fold. Where K is symmetric (no dispersion, or linear springs with
-/// it) the eigenvalue is the largest Rayleigh-Ritz value on a Krylov (Lanczos) basis of up to 60
-/// vectors, which converges in a few dozen products even where the top of the spectrum is
-/// clustered and never exceeds the true value. Only for carrier springs with dispersion, where K
+/// for which it does, i.e. the largest eigenvalue of M^-1/2 ((dt^2 / 4) K + (dt / 2) C) M^-1/2 is
+/// 1 (for symmetric K; times the safety factor). Without dampers it is 2 / omega_max; with
+/// dampers C = beta K (plain MSM) it is (2 / omega_max)(sqrt(1 + zeta^2) - zeta),
+/// zeta = beta omega_max / 2. The dampers act on the springs' own k only (C / beta = sum k u u^T),
+/// not on the eMSM dispersion, so at nu = 0.49, where the dispersion makes the bulk mode 7 times
+/// faster, omega_c << omega_max and the dampers shorten the step much less than Rayleigh damping
+/// beta K would (docs/physics.md §7). omega_max^2 is the largest eigenvalue of M^-1/2 K M^-1/2 at
+/// rest, and omega_c^2 that of M^-1/2 (C / beta) M^-1/2; the largest dt with
+/// (dt^2 / 4) omega_max^2 + (dt / 2) beta omega_c^2 <= 1 is a sufficient bound (K and C are
+/// positive semi-definite), a few percent short at nu near 1/2 where K's and C's highest modes
+/// differ. The sharp limit lies between it and 2 / omega_max and is found by bisection on the
+/// pencil's Rayleigh-Ritz projection on a Krylov basis of up to 60 vectors. All come from the
+/// exact stiffness, so they count the eMSM dispersion, Baudet's correction and any mass
+/// distribution; the per-node estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which
+/// at nu = 0.49 stiffens the bulk mode 7-fold. Where K is symmetric (no dispersion, or linear
+/// springs with it) the eigenvalue is the largest Rayleigh-Ritz value on a Krylov (Lanczos) basis
+/// of up to 60 vectors, which converges in a few dozen products even where the top of the spectrum
+/// is clustered and never exceeds the true value. Only for carrier springs with dispersion, where K
 /// is not symmetric, does it fall back to power iteration (300 iterations at most), whose
-/// estimate approaches from below and is therefore raised by 5 % (x1.05). For carrier springs
-/// omega_max is also raised by the stiffening of springs compressed to min_compression. A model
-/// without springs, or whose nodes are all fixed, gives +infinity. Throws std::invalid_argument
-/// for options out of range (safety in (0, 1], min_compression in (0, 1], damping >= 0, fixed
-/// nodes that are not nodes of the model).
+/// estimate approaches from below and is therefore raised by 5 % (x1.05), and keep the sufficient
+/// bound with dampers. For carrier springs omega_max is also raised by the stiffening of springs
+/// compressed to min_compression. A model without springs, or whose nodes are all fixed, gives
+/// +infinity. Throws std::invalid_argument for options out of range (safety in (0, 1],
+/// min_compression in (0, 1], damping >= 0, fixed nodes that are not nodes of the model).
 double StableTimeStep(const Model& model, const StableTimeStepOptions& options = {});
 
 }  // namespace msm_sim::core
