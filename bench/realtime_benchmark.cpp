@@ -7,7 +7,7 @@
 // (WorldOptions::spring_precision) and the threads (WorldOptions::threads: 1, or 2 for the
 // single-precision loops, whose node shares then run the per-node stages too) and the outer
 // layer's share of the eMSM bulk (CubicLatticeOptions::surface_dispersion, in per cent: 100 is
-// off, 50 the softer outer layer of docs/physics.md §7). Compare variants
+// off, 50 and 25 the softer outer layer of docs/physics.md §7). Compare variants
 // interleaved: --benchmark_filter=Realtime
 // --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 #include <map>
@@ -65,7 +65,7 @@ BENCHMARK(BM_RealtimeBlock)
     ->ArgNames({"spacing_um", "nu_permille", "single", "threads", "surface_pct"})
     ->ArgsProduct({{5000, 4000}, {250, 490}, {0}, {1}, {100}})
     ->ArgsProduct({{5000, 4000}, {250, 490}, {1}, {1, 2}, {100}})
-    ->ArgsProduct({{5000, 4000}, {490}, {1}, {1, 2}, {50}})
+    ->ArgsProduct({{5000, 4000}, {490}, {1}, {1, 2}, {50, 25}})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);

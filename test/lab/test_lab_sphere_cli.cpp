@@ -59,17 +59,22 @@ TEST(LabCliRealtime, TableUsesTheIssuesBlockByDefault) {
 }
 
 // --surface-dispersion reaches the model (docs/physics.md §7, "A softer outer layer"): the
-// realtime block at nu = 0.49 takes 11 substeps per ms instead of 15, and the table says so.
+// realtime block at nu = 0.49 takes 11 substeps per ms at half the bulk and 10 at a quarter
+// instead of 15, and the table says so.
 TEST(LabCliRealtime, ASofterOuterLayerTakesFewerSubsteps) {
   const std::string block = "realtime --spacing 0.005 --poisson 0.49 --seconds 0.003";
   const LabRun plain = RunLab(block + " --json");
   const LabRun softer = RunLab(block + " --surface-dispersion 0.5 --json");
+  const LabRun quarter = RunLab(block + " --surface-dispersion 0.25 --json");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   ASSERT_EQ(softer.exit_code, 0) << softer.err;
+  ASSERT_EQ(quarter.exit_code, 0) << quarter.err;
   const int plain_substeps = nlohmann::json::parse(plain.out)["substeps"];
   const int softer_substeps = nlohmann::json::parse(softer.out)["substeps"];
+  const int quarter_substeps = nlohmann::json::parse(quarter.out)["substeps"];
   EXPECT_EQ(plain_substeps, 15);
   EXPECT_EQ(softer_substeps, 11);
+  EXPECT_EQ(quarter_substeps, 10);
   const LabRun table = RunLab(block + " --surface-dispersion 0.5");
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("outer layer keeping 0.5 of its bulk"), std::string::npos) << table.out;
