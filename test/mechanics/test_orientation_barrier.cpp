@@ -1,6 +1,7 @@
 // OrientationBarrier (docs/physics.md §4 "Orientation barrier"): which corners a lattice has,
 // their volume ratios, and forces, energy and stiffness that agree with each other, alone and
 // inside ForceEvaluator's loops.
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <numeric>
@@ -204,7 +205,7 @@ TEST(OrientationBarrier, AddedByEveryForceLoop) {
       guarded.set_orientation_barrier(barrier);
       Eigen::Matrix3Xd without, with;
       plain.SetForces(x, v, 1e-3, &without);
-      int staged = 0;
+      std::atomic<int> staged{0};  // the stages run on the shares' threads
       ForceEvaluator::NodeStages stages{[](int, int) {},
                                         [&](int begin, int end) {
                                           staged += end - begin;
@@ -213,7 +214,7 @@ TEST(OrientationBarrier, AddedByEveryForceLoop) {
                                                     0.0);
                                         }};
       guarded.SetForces(x, v, 1e-3, &with, stages);
-      EXPECT_EQ(staged, model.num_nodes());
+      EXPECT_EQ(staged.load(), model.num_nodes());
       const double scale = without.norm();
       EXPECT_LT((with - without - barrier_forces).norm(), 1e-6 * scale)
           << static_cast<int>(kernels) << " " << static_cast<int>(precision);
