@@ -90,22 +90,22 @@ Eigen::Matrix3Xd AlternatingStart(int n) {
   return v;
 }
 
-// Up to `steps` Lanczos vectors from `start` (reorthogonalised twice against all before) and
-// their products with A. Stops early at an invariant subspace, where the basis is exact.
-void BuildKrylovBasis(const Operator& stiffness, const Eigen::Matrix3Xd& start, int steps,
-                      std::vector<Eigen::Matrix3Xd>* basis,
-                      std::vector<Eigen::Matrix3Xd>* products) {
-  Eigen::Matrix3Xd av(3, start.cols());
+// Up to `steps` Lanczos vectors from `start` (reorthogonalised twice against all before), the
+// next from product(m), the operator applied to basis[m] (the caller may record it). Stops early
+// at an invariant subspace, where the basis is exact.
+void BuildKrylovBasis(const std::function<Eigen::Matrix3Xd(int)>& product,
+                      const Eigen::Matrix3Xd& start, int steps,
+                      std::vector<Eigen::Matrix3Xd>* basis) {
   basis->assign(1, start);
   for (int m = 0; m < steps; ++m) {
-    stiffness((*basis)[m], &av);
-    products->push_back(av);
+    Eigen::Matrix3Xd av = product(m);
     if (m + 1 == steps) break;
+    const double product_norm = av.norm();
     for (int pass = 0; pass < 2; ++pass) {
       for (const Eigen::Matrix3Xd& q : *basis) av -= (q.array() * av.array()).sum() * q;
     }
     const double norm = av.norm();
-    if (norm <= 1e-10 * products->back().norm()) break;  // an invariant subspace: exact
+    if (norm <= 1e-10 * product_norm) break;  // an invariant subspace: exact
     basis->push_back(av / norm);
   }
 }
@@ -133,7 +133,14 @@ double LargestEigenvalueByRayleighRitz(const Operator& stiffness, const Eigen::M
   const int steps = std::min(60, 3 * n);
   std::vector<Eigen::Matrix3Xd> basis;
   std::vector<Eigen::Matrix3Xd> products;
-  BuildKrylovBasis(stiffness, start, steps, &basis, &products);
+  Eigen::Matrix3Xd av(3, start.cols());
+  BuildKrylovBasis(
+      [&](int m) {
+        stiffness(basis[m], &av);
+        products.push_back(av);
+        return av;
+      },
+      start, steps, &basis);
   return LargestRitzValue(basis, products);
 }
 
@@ -170,38 +177,33 @@ double StepForLargestEigenvalues(double lambda, double lambda_damper, double bet
   return 2.0 / (b + std::sqrt(b * b + 4.0 * a));
 }
 
-// The Rayleigh-Ritz projections Q^T K Q and Q^T C Q on an orthonormal Krylov (Lanczos) basis Q
-// of up to `steps` vectors of (h^2 / 4) K + (h / 2) C (K and C mass-scaled, C with beta), each
-// formed explicitly from the products (one triangle, mirrored) while Q is built, so that only Q
-// is stored.
+// The Rayleigh-Ritz projections Q^T (s K) Q and Q^T (beta C) Q (K and C mass-scaled, C without
+// beta, s the carrier springs' stiffening) on an orthonormal Krylov (Lanczos) basis Q of up to
+// `steps` vectors of the pencil (h^2 / 4) s K + (h / 2) beta C, each formed explicitly from the
+// products (one triangle, mirrored) while Q is built, so that only Q is stored.
 struct PencilProjection {
   Eigen::MatrixXd k, c;
 };
-PencilProjection ProjectPencil(const Operator& stiffness, const Operator& dampers, double h,
+PencilProjection ProjectPencil(const Operator& stiffness, double stiffening,
+                               const Operator& dampers, double beta, double h,
                                const Eigen::Matrix3Xd& start, int steps) {
-  const double a = 0.25 * h * h, b = 0.5 * h;
-  std::vector<Eigen::Matrix3Xd> basis(1, start);
+  const double a = 0.25 * h * h * stiffening, b = 0.5 * h * beta;
+  std::vector<Eigen::Matrix3Xd> basis;
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(steps, steps), c = k;
   Eigen::Matrix3Xd kq(3, start.cols()), cq(3, start.cols());
-  int m = 0;
-  for (;; ++m) {
-    stiffness(basis[m], &kq);
-    dampers(basis[m], &cq);
-    for (int i = 0; i <= m; ++i) {
-      k(i, m) = k(m, i) = (basis[i].array() * kq.array()).sum();
-      c(i, m) = c(m, i) = (basis[i].array() * cq.array()).sum();
-    }
-    if (m + 1 == steps) break;
-    Eigen::Matrix3Xd av = a * kq + b * cq;
-    const double product_norm = av.norm();
-    for (int pass = 0; pass < 2; ++pass) {
-      for (const Eigen::Matrix3Xd& q : basis) av -= (q.array() * av.array()).sum() * q;
-    }
-    const double norm = av.norm();
-    if (norm <= 1e-10 * product_norm) break;  // an invariant subspace: exact
-    basis.push_back(av / norm);
-  }
-  return {k.topLeftCorner(m + 1, m + 1), c.topLeftCorner(m + 1, m + 1)};
+  BuildKrylovBasis(
+      [&](int m) {
+        stiffness(basis[m], &kq);
+        dampers(basis[m], &cq);
+        for (int i = 0; i <= m; ++i) {
+          k(i, m) = k(m, i) = (basis[i].array() * kq.array()).sum();
+          c(i, m) = c(m, i) = (basis[i].array() * cq.array()).sum();
+        }
+        return Eigen::Matrix3Xd(a * kq + b * cq);
+      },
+      start, steps, &basis);
+  const auto size = static_cast<Eigen::Index>(basis.size());
+  return {stiffening * k.topLeftCorner(size, size), beta * c.topLeftCorner(size, size)};
 }
 
 // The largest h in [lo, hi] with lambda_max((h^2 / 4) k + (h / 2) c) <= 1 for the projections,
@@ -228,10 +230,11 @@ double ProjectedStepRoot(const PencilProjection& projection, double lo, double h
 // pencil's by a few percent. Rayleigh-Ritz on a Krylov basis of the pencil at `lo`: a second
 // basis built at the root moved no step of the realtime block (nu 0.45 and 0.49, 5 and 4 mm) by
 // 10^-5.
-double SharpDampedStep(const Operator& stiffness, const Operator& dampers,
-                       const Eigen::Matrix3Xd& start, double lo, double hi) {
+double SharpDampedStep(const Operator& stiffness, double stiffening, const Operator& dampers,
+                       double beta, const Eigen::Matrix3Xd& start, double lo, double hi) {
   const int steps = std::min(60, 3 * static_cast<int>(start.cols()));
-  return ProjectedStepRoot(ProjectPencil(stiffness, dampers, lo, start, steps), lo, hi);
+  return ProjectedStepRoot(ProjectPencil(stiffness, stiffening, dampers, beta, lo, start, steps),
+                           lo, hi);
 }
 
 }  // namespace
@@ -265,18 +268,8 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
   const double lambda_damper = LargestEigenvalueByRayleighRitz(dampers, start);
   const double sufficient = StepForLargestEigenvalues(lambda, lambda_damper, options.damping_beta);
   if (!symmetric) return options.safety * sufficient;
-  const double beta = options.damping_beta;
-  const Operator stiffened = [&stiffness, stiffening](const Eigen::Matrix3Xd& v,
-                                                      Eigen::Matrix3Xd* out) {
-    stiffness(v, out);
-    if (stiffening != 1.0) *out *= stiffening;
-  };
-  const Operator damping = [&dampers, beta](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
-    dampers(v, out);
-    *out *= beta;
-  };
-  return options.safety *
-         SharpDampedStep(stiffened, damping, start, sufficient, 2.0 / std::sqrt(lambda));
+  return options.safety * SharpDampedStep(stiffness, stiffening, dampers, options.damping_beta,
+                                          start, sufficient, 2.0 / std::sqrt(lambda));
 }
 
 }  // namespace msm_sim::core
