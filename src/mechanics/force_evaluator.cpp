@@ -89,8 +89,7 @@ void ForceEvaluator::set_precision(SpringPrecision precision) {
   if (precision == SpringPrecision::kDouble || !scheduled_) {
     single_.reset();
   } else if (!single_) {
-    single_ = SinglePrecisionSprings::Schedule(*model_, inflow_a_.data(), inflow_b_.data(),
-                                               outflow_a_.data(), outflow_b_.data());
+    single_ = SinglePrecisionSprings::Schedule(*model_);
     // A linearisation from before takes the single-precision products from now on.
     if (scheduled_linearization_.size() == 4 * static_cast<Eigen::Index>(model_->num_springs())) {
       RoundLinearization();
@@ -574,8 +573,6 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
                       overflow_forces(t));
     });
   } else {
-    single_tensions_.resize(single_->num_slots());
-    single_inverse_lengths_.resize(single_->num_slots());
     single_accumulators_.resize(2 * n);
     accumulator_.resize(n);
     dispersion_per_weight_.resize(n);
@@ -584,21 +581,19 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     float* j_b = j_a + n;
     RunShares(count, [&](int t) {
       clear(t, j_a, 2, 3, 3);
-      SingleInflowRuns(*single_, shares[t], x_arrays, velocities, beta, single_tensions_.data(),
-                       single_inverse_lengths_.data(), j_a, j_b, overflow(t, 3));
+      SingleInflowRuns(*single_, shares[t], x_arrays, j_a, j_b, overflow(t, 3));
     });
     // J and g in double as well: a one-pass evaluation after this one lags on them.
     RunShares(count, [&](int t) {
       GatherOverflows(overflow(0, 3), 4 * length, length, shares, t, j_b);
-      SingleDispersion(j_a, inverse_star_weight_.data(), n, shares[t].begin, shares[t].end,
-                       accumulator_.data(), dispersion_per_weight_.data(),
-                       single_dispersion_.data());
+      SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), n,
+                       shares[t].begin, shares[t].end, accumulator_.data(),
+                       dispersion_per_weight_.data(), single_dispersion_.data());
     });
     RunShares(count, [&](int t) {
       clear(t, f, 6, 0, 2);
-      SingleOutflowRuns(*single_, shares[t], x_arrays, single_dispersion_.data(),
-                        single_tensions_.data(), single_inverse_lengths_.data(), end_forces,
-                        overflow_forces(t));
+      SingleOutflowRuns(*single_, shares[t], x_arrays, velocities, beta, single_dispersion_.data(),
+                        end_forces, overflow_forces(t));
     });
   }
   RunShares(count, apply_forces);

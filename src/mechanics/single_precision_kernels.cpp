@@ -12,13 +12,11 @@
 
 namespace msm_sim::core {
 
-std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
-    const Model& model, const double* inflow_a, const double* inflow_b, const double* outflow_a,
-    const double* outflow_b) {
+std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(const Model& model) {
   const int count = model.num_springs();
   const auto& node_a = model.spring_node_a();
   const auto& node_b = model.spring_node_b();
-  // Each spring oriented a < b (its end coefficients swapped with it), sorted by offset, then a.
+  // Each spring oriented a < b (its end weights swapped with it), sorted by offset, then a.
   std::vector<SpringIndex> order(count);
   std::iota(order.begin(), order.end(), 0);
   const auto low = [&](SpringIndex s) { return std::min(node_a[s], node_b[s]); };
@@ -28,13 +26,11 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
   });
   auto springs = std::make_shared<SinglePrecisionSprings>();
   SinglePrecisionSprings& out = *springs;
-  const auto add_slot = [&](float k, float rest, float in_a, float in_b, float out_a, float out_b) {
+  const auto add_slot = [&](float k, float rest, float weight_a, float weight_b) {
     out.stiffness.push_back(k);
     out.rest.push_back(rest);
-    out.inflow_a.push_back(in_a);
-    out.inflow_b.push_back(in_b);
-    out.outflow_a.push_back(out_a);
-    out.outflow_b.push_back(out_b);
+    out.weight_a.push_back(weight_a);
+    out.weight_b.push_back(weight_b);
   };
   for (int p = 0; p < count; ++p) {
     const SpringIndex s = order[p];
@@ -44,7 +40,7 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
     const bool extend = run != nullptr && run->offset == offset(s) && gap >= 0 && gap <= kMaxGap &&
                         run->count + gap < kMaxRunLength;
     if (extend) {
-      for (int g = 0; g < gap; ++g) add_slot(0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f);
+      for (int g = 0; g < gap; ++g) add_slot(0.0f, 0.0f, 0.0f, 0.0f);
       out.num_phantoms += gap;
       run->count += gap + 1;
     } else {
@@ -52,12 +48,12 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(
     }
     out.max_offset = std::max(out.max_offset, offset(s));
     const bool swapped = node_a[s] > node_b[s];
-    add_slot(static_cast<float>(model.spring_stiffness()[s]),
-             static_cast<float>(model.spring_rest_length()[s]),
-             static_cast<float>(swapped ? inflow_b[s] : inflow_a[s]),
-             static_cast<float>(swapped ? inflow_a[s] : inflow_b[s]),
-             static_cast<float>(swapped ? outflow_b[s] : outflow_a[s]),
-             static_cast<float>(swapped ? outflow_a[s] : outflow_b[s]));
+    const double rest = model.spring_rest_length()[s];
+    const double weight_a = model.dispersion_weight_a()[s] * rest;
+    const double weight_b = model.dispersion_weight_b()[s] * rest;
+    add_slot(static_cast<float>(model.spring_stiffness()[s]), static_cast<float>(rest),
+             static_cast<float>(swapped ? weight_b : weight_a),
+             static_cast<float>(swapped ? weight_a : weight_b));
   }
   return springs;
 }
@@ -99,32 +95,9 @@ inline __attribute__((always_inline)) float DamperTension(const float* __restric
   return beta_k * rate * inverse_length;
 }
 
-// A node array from a run's a0, or null for none (no dampers).
+// A node array from a run's a0, or null for none (no dampers, no dispersion).
 inline const float* From(const float* array, int a0) {
   return array != nullptr ? array + a0 : nullptr;
-}
-
-// One run of the plain pass, its pointers as restrict parameters (GCC trusts those; pointers
-// read inside the loop, or restrict locals, left a scalar loop). Node arrays start at the run's
-// a0, per-slot arrays at its first slot, the b ends' forces at node a0 + d.
-template <bool Damped>
-inline __attribute__((always_inline)) void PlainRun(
-    int n, int d, const float* __restrict px, const float* __restrict py,
-    const float* __restrict pz, const float* __restrict vx, const float* __restrict vy,
-    const float* __restrict vz, float beta, const float* __restrict k, const float* __restrict rest,
-    float* __restrict fax, float* __restrict fay, float* __restrict faz, float* __restrict fbx,
-    float* __restrict fby, float* __restrict fbz) {
-#pragma omp simd
-  for (int i = 0; i < n; ++i) {
-    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float length = std::sqrt(rx * rx + ry * ry + rz * rz);
-    const float inverse_length = InverseLength(length);
-    float t = k[i] * (length - rest[i]);
-    if constexpr (Damped)
-      t += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
-    const float scale = t * inverse_length;
-    ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
-  }
 }
 
 // Calls part(a, count, beyond) for the slots of `run` in `share`: first those whose b ends lie
@@ -145,84 +118,73 @@ inline float* BEnd(float* shared, float* overflow, int b, int end, bool beyond) 
   return beyond ? overflow + (b - end) : shared + b;
 }
 
-template <bool Damped>
-inline __attribute__((always_inline)) void PlainImpl(const SinglePrecisionSprings& springs,
-                                                     const SingleShare& share,
-                                                     const SingleNodeArrays& positions,
-                                                     const SingleNodeArrays* velocities, float beta,
-                                                     const SingleEndForces& forces,
-                                                     const MutableSingleNodeArrays& overflow) {
-  const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
-  for (const SingleRun& run : springs.runs) {
-    ForRunInShare(run, share, [&](int a, int count, bool beyond) {
-      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.end;
-      PlainRun<Damped>(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
-                       From(v.x, a), From(v.y, a), From(v.z, a), beta, springs.stiffness.data() + f,
-                       springs.rest.data() + f, forces.a.x + a, forces.a.y + a, forces.a.z + a,
-                       BEnd(forces.b.x, overflow.x, b, end, beyond),
-                       BEnd(forces.b.y, overflow.y, b, end, beyond),
-                       BEnd(forces.b.z, overflow.z, b, end, beyond));
-    });
+// One run of the eMSM first pass, its pointers as restrict parameters (GCC then trusts them;
+// as restrict locals it kept a scalar fallback and took it). Only the elastic tension
+// k (L - L0) feeds the accumulators, so this pass needs no velocities and no 1 / L, and it
+// stores nothing per slot. Node arrays start at the run's a0, per-slot arrays at its first
+// slot, jb at node a0 + d.
+inline __attribute__((always_inline)) void InflowRun(
+    int n, int d, const float* __restrict px, const float* __restrict py,
+    const float* __restrict pz, const float* __restrict k, const float* __restrict rest,
+    const float* __restrict weight_a, const float* __restrict weight_b, float* __restrict ja,
+    float* __restrict jb) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+    const float elastic = k[i] * (std::sqrt(rx * rx + ry * ry + rz * rz) - rest[i]);
+    ja[i] += weight_a[i] * elastic;
+    jb[i] += weight_b[i] * elastic;
   }
 }
 
-// One run of the eMSM first pass, its pointers as restrict parameters (GCC then trusts them;
-// as restrict locals it kept a scalar fallback and took it). Node arrays start at the run's a0,
-// per-slot arrays at its first slot, jb at node a0 + d.
-template <bool Damped>
-inline __attribute__((always_inline)) void InflowRun(
+// One run of the pass that applies the springs' forces, its pointers as restrict parameters
+// (as InflowRun): the plain pass, and the eMSM second pass when Dispersed, which adds the
+// dispersed tension k (w_a g_a + w_b g_b) (g from the run's a0). The second pass recomputes L
+// and 1 / L rather than reading them from the first: on the 12k block the two stored arrays
+// cost more than the square root and the division (docs/physics.md §9). The b ends' forces
+// start at node a0 + d.
+template <bool Damped, bool Dispersed>
+inline __attribute__((always_inline)) void ForceRun(
     int n, int d, const float* __restrict px, const float* __restrict py,
     const float* __restrict pz, const float* __restrict vx, const float* __restrict vy,
-    const float* __restrict vz, float beta, const float* __restrict k, const float* __restrict rest,
-    const float* __restrict in_a, const float* __restrict in_b, float* __restrict t,
-    float* __restrict inverse, float* __restrict ja, float* __restrict jb) {
+    const float* __restrict vz, float beta, const float* __restrict g, const float* __restrict k,
+    const float* __restrict rest, const float* __restrict weight_a,
+    const float* __restrict weight_b, float* __restrict fax, float* __restrict fay,
+    float* __restrict faz, float* __restrict fbx, float* __restrict fby, float* __restrict fbz) {
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
     const float length = std::sqrt(rx * rx + ry * ry + rz * rz);
     const float inverse_length = InverseLength(length);
-    const float elastic = k[i] * (length - rest[i]);
-    float total = elastic;
-    if constexpr (Damped) {
-      total += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
-    }
-    t[i] = total;
-    inverse[i] = inverse_length;
-    ja[i] += in_a[i] * elastic;
-    jb[i] += in_b[i] * elastic;
+    float stretch = length - rest[i];
+    if constexpr (Dispersed) stretch += weight_a[i] * g[i] + weight_b[i] * g[i + d];
+    float t = k[i] * stretch;
+    if constexpr (Damped)
+      t += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
+    const float scale = t * inverse_length;
+    ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
   }
 }
 
-template <bool Damped>
-inline __attribute__((always_inline)) void InflowImpl(
+// The forces of the slots in `share`; Dispersed: by `g` per node (the eMSM second pass).
+template <bool Damped, bool Dispersed>
+inline __attribute__((always_inline)) void ForcesImpl(
     const SinglePrecisionSprings& springs, const SingleShare& share,
     const SingleNodeArrays& positions, const SingleNodeArrays* velocities, float beta,
-    float* tensions, float* inverse_lengths, float* j_a, float* j_b, float* j_b_overflow) {
+    const float* g, const SingleEndForces& forces, const MutableSingleNodeArrays& overflow) {
   const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
   for (const SingleRun& run : springs.runs) {
     ForRunInShare(run, share, [&](int a, int count, bool beyond) {
-      const int b = a + run.offset, f = run.first + (a - run.a0);
-      InflowRun<Damped>(
-          count, run.offset, positions.x + a, positions.y + a, positions.z + a, From(v.x, a),
-          From(v.y, a), From(v.z, a), beta, springs.stiffness.data() + f, springs.rest.data() + f,
-          springs.inflow_a.data() + f, springs.inflow_b.data() + f, tensions + f,
-          inverse_lengths + f, j_a + a, BEnd(j_b, j_b_overflow, b, share.end, beyond));
+      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.end;
+      ForceRun<Damped, Dispersed>(count, run.offset, positions.x + a, positions.y + a,
+                                  positions.z + a, From(v.x, a), From(v.y, a), From(v.z, a), beta,
+                                  From(g, a), springs.stiffness.data() + f, springs.rest.data() + f,
+                                  springs.weight_a.data() + f, springs.weight_b.data() + f,
+                                  forces.a.x + a, forces.a.y + a, forces.a.z + a,
+                                  BEnd(forces.b.x, overflow.x, b, end, beyond),
+                                  BEnd(forces.b.y, overflow.y, b, end, beyond),
+                                  BEnd(forces.b.z, overflow.z, b, end, beyond));
     });
-  }
-}
-
-// One run of the eMSM second pass (g from the run's a0; as PlainRun otherwise).
-inline __attribute__((always_inline)) void OutflowRun(
-    int n, int d, const float* __restrict px, const float* __restrict py,
-    const float* __restrict pz, const float* __restrict g, const float* __restrict t,
-    const float* __restrict inverse, const float* __restrict out_a, const float* __restrict out_b,
-    float* __restrict fax, float* __restrict fay, float* __restrict faz, float* __restrict fbx,
-    float* __restrict fby, float* __restrict fbz) {
-#pragma omp simd
-  for (int i = 0; i < n; ++i) {
-    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float scale = (t[i] + out_a[i] * g[i] + out_b[i] * g[i + d]) * inverse[i];
-    ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
   }
 }
 
@@ -244,8 +206,8 @@ void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, con
 }
 
 MSM_SIM_SIMD_CLONES
-void SingleDispersion(const float* accumulators, const double* inverse_star_weight, long n,
-                      long begin, long end, double* j, double* g, float* g_single) {
+void SingleDispersion(const float* accumulators, double fraction, const double* inverse_star_weight,
+                      long n, long begin, long end, double* j, double* g, float* g_single) {
   const float* __restrict ja = accumulators;
   const float* __restrict jb = accumulators + n;
   const double* __restrict w = inverse_star_weight;
@@ -253,7 +215,7 @@ void SingleDispersion(const float* accumulators, const double* inverse_star_weig
   double* __restrict g_out = g;
   float* __restrict gs = g_single;
   for (long i = begin; i < end; ++i) {
-    j_out[i] = static_cast<double>(ja[i]) + static_cast<double>(jb[i]);
+    j_out[i] = fraction * (static_cast<double>(ja[i]) + static_cast<double>(jb[i]));
     g_out[i] = j_out[i] * w[i];
     gs[i] = static_cast<float>(g_out[i]);
   }
@@ -295,41 +257,39 @@ void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& s
                      float beta, const SingleEndForces& forces,
                      const MutableSingleNodeArrays& overflow) {
   if (velocities != nullptr) {
-    PlainImpl<true>(springs, share, positions, velocities, beta, forces, overflow);
+    ForcesImpl<true, false>(springs, share, positions, velocities, beta, nullptr, forces, overflow);
   } else {
-    PlainImpl<false>(springs, share, positions, velocities, beta, forces, overflow);
+    ForcesImpl<false, false>(springs, share, positions, velocities, beta, nullptr, forces,
+                             overflow);
   }
 }
 
 MSM_SIM_SIMD_CLONES
 void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
-                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
-                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b,
+                      const SingleNodeArrays& positions, float* j_a, float* j_b,
                       float* j_b_overflow) {
-  if (velocities != nullptr) {
-    InflowImpl<true>(springs, share, positions, velocities, beta, tensions, inverse_lengths, j_a,
-                     j_b, j_b_overflow);
-  } else {
-    InflowImpl<false>(springs, share, positions, velocities, beta, tensions, inverse_lengths, j_a,
-                      j_b, j_b_overflow);
+  for (const SingleRun& run : springs.runs) {
+    ForRunInShare(run, share, [&](int a, int count, bool beyond) {
+      const int b = a + run.offset, f = run.first + (a - run.a0);
+      InflowRun(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
+                springs.stiffness.data() + f, springs.rest.data() + f, springs.weight_a.data() + f,
+                springs.weight_b.data() + f, j_a + a,
+                BEnd(j_b, j_b_overflow, b, share.end, beyond));
+    });
   }
 }
 
 MSM_SIM_SIMD_CLONES
 void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
-                       const SingleNodeArrays& positions, const float* dispersion_per_weight,
-                       const float* tensions, const float* inverse_lengths,
+                       const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
+                       float beta, const float* dispersion_per_weight,
                        const SingleEndForces& forces, const MutableSingleNodeArrays& overflow) {
-  for (const SingleRun& run : springs.runs) {
-    ForRunInShare(run, share, [&](int a, int count, bool beyond) {
-      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.end;
-      OutflowRun(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
-                 dispersion_per_weight + a, tensions + f, inverse_lengths + f,
-                 springs.outflow_a.data() + f, springs.outflow_b.data() + f, forces.a.x + a,
-                 forces.a.y + a, forces.a.z + a, BEnd(forces.b.x, overflow.x, b, end, beyond),
-                 BEnd(forces.b.y, overflow.y, b, end, beyond),
-                 BEnd(forces.b.z, overflow.z, b, end, beyond));
-    });
+  if (velocities != nullptr) {
+    ForcesImpl<true, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
+                           forces, overflow);
+  } else {
+    ForcesImpl<false, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
+                            forces, overflow);
   }
 }
 

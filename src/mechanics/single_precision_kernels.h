@@ -33,21 +33,19 @@ struct SinglePrecisionSprings {
   static constexpr int kMaxRunLength = 512;
 
   std::vector<SingleRun> runs;
-  std::vector<float> rest, stiffness, inflow_a, inflow_b, outflow_a, outflow_b;
+  /// Per slot: k, L0, and each end's dispersion weight v L0 (the model's v at that end). The
+  /// eMSM's inflow q v L0 and outflow v k L0 (docs/physics.md §3) are this weight times q and
+  /// times k: one array per end serves both passes.
+  std::vector<float> rest, stiffness, weight_a, weight_b;
   int num_phantoms = 0;
   /// The largest offset of a run: the longest overflow of a share (SingleShare).
   int max_offset = 0;
 
   int num_slots() const { return static_cast<int>(rest.size()); }
 
-  /// Schedules `model`'s springs with the per-end dispersion coefficients of ForceEvaluator
-  /// (model order, per spring: inflow q v L0 and outflow v k L0 at the model's a and b ends).
-  /// Deterministic. Precondition: linear springs (the loops know t = k (L - L0) only).
-  static std::shared_ptr<const SinglePrecisionSprings> Schedule(const Model& model,
-                                                                const double* inflow_a,
-                                                                const double* inflow_b,
-                                                                const double* outflow_a,
-                                                                const double* outflow_b);
+  /// Schedules `model`'s springs. Deterministic. Precondition: linear springs (the loops know
+  /// t = k (L - L0) only).
+  static std::shared_ptr<const SinglePrecisionSprings> Schedule(const Model& model);
 };
 
 /// Node vectors as x, y, z blocks (structure of arrays), single precision.
@@ -92,11 +90,11 @@ struct SingleShare {
 void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, const double origin[3],
                         float* arrays);
 
-/// For nodes [begin, end), from the a ends' and the b ends' accumulators (`accumulators`: J_a
-/// then J_b, n each): J = J_a + J_b and g = J / W (`inverse_star_weight` = 1 / W) in double, and
-/// g rounded to float.
-void SingleDispersion(const float* accumulators, const double* inverse_star_weight, long n,
-                      long begin, long end, double* j, double* g, float* g_single);
+/// For nodes [begin, end), from the a ends' and the b ends' sums of v L0 t (`accumulators`: a
+/// then b, n each): J = q (a + b) (q = `fraction`) and g = J / W (`inverse_star_weight` = 1 / W)
+/// in double, and g rounded to float.
+void SingleDispersion(const float* accumulators, double fraction, const double* inverse_star_weight,
+                      long n, long begin, long end, double* j, double* g, float* g_single);
 
 /// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) of nodes
 /// [begin, end) to their column-major 3-vectors.
@@ -110,19 +108,18 @@ void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& s
                      float beta, const SingleEndForces& forces,
                      const MutableSingleNodeArrays& overflow);
 
-/// eMSM first pass: stores each slot's direct tension plus its damper's and 1 / L, and adds
-/// inflow * (direct tension) to the a ends' accumulators `j_a` and the b ends' `j_b` (from node
-/// share.end on: `j_b_overflow`).
+/// eMSM first pass: adds each slot's end weight v L0 times its elastic tension k (L - L0) to the
+/// a ends' accumulators `j_a` and the b ends' `j_b` (from node share.end on: `j_b_overflow`);
+/// SingleDispersion applies q. Dampers do not disperse, so it takes no velocities.
 void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
-                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
-                      float beta, float* tensions, float* inverse_lengths, float* j_a, float* j_b,
+                      const SingleNodeArrays& positions, float* j_a, float* j_b,
                       float* j_b_overflow);
 
-/// eMSM second pass: total tension = stored tension + outflow_a g_a + outflow_b g_b (g = J / W
-/// per node), applied to both ends.
+/// eMSM second pass: total tension = k (L - L0 + w_a g_a + w_b g_b) plus the damper's (w the
+/// end weights v L0, g = J / W per node), applied to both ends.
 void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
-                       const SingleNodeArrays& positions, const float* dispersion_per_weight,
-                       const float* tensions, const float* inverse_lengths,
+                       const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
+                       float beta, const float* dispersion_per_weight,
                        const SingleEndForces& forces, const MutableSingleNodeArrays& overflow);
 
 }  // namespace msm_sim::core

@@ -92,9 +92,7 @@ INSTANTIATE_TEST_SUITE_P(PlainAndDispersed, SinglePrecisionKernels,
 
 TEST(SinglePrecisionSchedule, PhantomsJoinABoxsRowsAndCarryNothing) {
   const Model model = Block(0.45);
-  Eigen::VectorXd ones = Eigen::VectorXd::Ones(model.num_springs());
-  const auto springs =
-      SinglePrecisionSprings::Schedule(model, ones.data(), ones.data(), ones.data(), ones.data());
+  const auto springs = SinglePrecisionSprings::Schedule(model);
   EXPECT_EQ(springs->num_slots(), model.num_springs() + springs->num_phantoms);
   EXPECT_GT(springs->num_phantoms, 0);
   // 10 x 6 x 5 nodes, 9 offsets: rows of 10 joined across their ends into long runs.
@@ -103,8 +101,8 @@ TEST(SinglePrecisionSchedule, PhantomsJoinABoxsRowsAndCarryNothing) {
   for (int slot = 0; slot < springs->num_slots(); ++slot) {
     if (springs->stiffness[slot] == 0.0f) {
       ++phantoms;
-      EXPECT_EQ(springs->inflow_a[slot], 0.0f);
-      EXPECT_EQ(springs->outflow_b[slot], 0.0f);
+      EXPECT_EQ(springs->weight_a[slot], 0.0f);
+      EXPECT_EQ(springs->weight_b[slot], 0.0f);
     }
   }
   EXPECT_EQ(phantoms, springs->num_phantoms);

@@ -264,9 +264,8 @@ class ForceEvaluator {
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
   // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each; the
-  // accumulators J of the a and b ends (N each), g = J / W (N); per slot: tensions and 1 / L.
-  Eigen::VectorXf single_nodes_, single_accumulators_, single_dispersion_, single_tensions_,
-      single_inverse_lengths_;
+  // accumulators of the a and b ends (N each), g = J / W (N).
+  Eigen::VectorXf single_nodes_, single_accumulators_, single_dispersion_;
   // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each.
   Eigen::VectorXf single_overflows_;
   // The stiffness product in single precision, per spring in schedule order: k, inflow a and b,
