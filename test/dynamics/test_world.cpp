@@ -341,6 +341,41 @@ TEST(World, NodeSharesOnTwoThreadsRepeatAndFollowOneThread) {
   EXPECT_NEAR(two.sphere_force.norm(), one.sphere_force.norm(), 0.01 * one.sphere_force.norm());
 }
 
+// The step's rollback copy is taken per node share, each on its share's thread
+// (World::SaveForRollback): on two threads a rejected step must still restore every node of
+// both shares bit for bit.
+TEST(World, ARejectedStepOnTwoThreadsRestoresBothShares) {
+  WorldOptions options;
+  options.threads = 2;
+  World world(options);
+  CubicLatticeOptions lattice;
+  lattice.size = Eigen::Vector3d(0.06, 0.06, 0.04);
+  lattice.spacing = 0.005;
+  const auto block = std::make_shared<const Model>(
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice));
+  ASSERT_GE(block->num_nodes(), 1'000);
+  BodyOptions body_options;
+  body_options.damping_beta = 1e-4;
+  body_options.restitution = 0.5;
+  const int body = world.AddBody("block", block, body_options);
+  Collider ground;
+  ground.pose.translation().z() =
+      block->rest_positions().row(2).minCoeff() - world.border(body).radii[0] - 1e-3;
+  world.AddCollider(ground);
+  for (int step = 0; step < 10; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+  const State before = world.state(body);
+  // Moving everywhere: a restored node that kept its old value would show.
+  ASSERT_GT(before.velocities.row(2).cwiseAbs().minCoeff(), 0.0);
+  const double top = block->rest_positions().row(2).maxCoeff();
+  world.ApplyForce(body, Eigen::Vector3d(0.03, 0.03, top), Eigen::Vector3d(1e12, 0.0, 0.0), 0.01,
+                   0.0);
+  const StepReport report = world.Step(1e-3);
+  ASSERT_FALSE(report.accepted);
+  EXPECT_EQ(world.state(body).positions, before.positions);
+  EXPECT_EQ(world.state(body).velocities, before.velocities);
+  EXPECT_TRUE(world.Step(1e-3).accepted) << "the next step goes on from the kept state";
+}
+
 TEST(World, ResetRestoresTheRestState) {
   World world;
   const auto block = Block();
