@@ -264,14 +264,9 @@ struct SharedRun {
   Eigen::Vector3d sphere_force;
 };
 
-// A block of 1,152 nodes (above the node-share threshold) dropped 1 mm onto the ground, with
-// restitution left pending at every contact, a sphere pressing into its top, a push on nodes
-// near the top and a kinematic group across both halves of the node order, for 60 ms on
-// `threads` threads.
-SharedRun RunSharedScene(int threads) {
-  WorldOptions options;
-  options.threads = threads;
-  World world(options);
+// Adds a block of 1,152 nodes (above the node-share threshold), with dampers and restitution
+// 0.5, 1 mm above the ground to `world`; returns its body index.
+int AddBlockAboveGround(World* world) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d(0.06, 0.06, 0.04);
   lattice.spacing = 0.005;
@@ -281,28 +276,40 @@ SharedRun RunSharedScene(int threads) {
   BodyOptions body_options;
   body_options.damping_beta = 1e-4;
   body_options.restitution = 0.5;
-  const int body = world.AddBody("block", block, body_options);
-  const double bottom = block->rest_positions().row(2).minCoeff();
-  const double top = block->rest_positions().row(2).maxCoeff();
-  const double radius = world.border(body).radii[0];
+  const int body = world->AddBody("block", block, body_options);
   Collider ground;
-  ground.pose.translation().z() = bottom - radius - 1e-3;
-  world.AddCollider(ground);
+  ground.pose.translation().z() =
+      block->rest_positions().row(2).minCoeff() - world->border(body).radii[0] - 1e-3;
+  world->AddCollider(ground);
+  return body;
+}
+
+// The block above dropped onto the ground, with restitution left pending at every contact, a
+// sphere pressing into its top, a push on nodes near the top and a kinematic group across both
+// halves of the node order, for 60 ms on `threads` threads.
+SharedRun RunSharedScene(int threads) {
+  WorldOptions options;
+  options.threads = threads;
+  World world(options);
+  const int body = AddBlockAboveGround(&world);
+  const Model& block = world.model(body);
+  const double top = block.rest_positions().row(2).maxCoeff();
+  const double radius = world.border(body).radii[0];
   Collider sphere;
   sphere.shape = ColliderShape::Sphere(0.01);
   sphere.pose.translation() = Eigen::Vector3d(0.03, 0.03, top + radius + 0.008);
   sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.1);
   const int finger = world.AddCollider(sphere);
   // The nodes of the side x < 3 mm from bottom to top, in both shares, swaying in y.
-  world.AddKinematicGroup(body,
-                          KinematicGroup{"side",
-                                         NodesInHalfSpace(*block, Eigen::Vector3d(0.003, 0.0, 0.0),
-                                                          Eigen::Vector3d::UnitX()),
-                                         [](double t) {
-                                           Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-                                           pose.translation().y() = 1e-3 * std::sin(40.0 * t);
-                                           return pose;
-                                         }});
+  world.AddKinematicGroup(
+      body, KinematicGroup{
+                "side",
+                NodesInHalfSpace(block, Eigen::Vector3d(0.003, 0.0, 0.0), Eigen::Vector3d::UnitX()),
+                [](double t) {
+                  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+                  pose.translation().y() = 1e-3 * std::sin(40.0 * t);
+                  return pose;
+                }});
   world.ApplyForce(body, Eigen::Vector3d(0.05, 0.01, top), Eigen::Vector3d(0.5, -0.3, -1.0), 0.008,
                    1.0);
   SharedRun run;
@@ -348,25 +355,12 @@ TEST(World, ARejectedStepOnTwoThreadsRestoresBothShares) {
   WorldOptions options;
   options.threads = 2;
   World world(options);
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.06, 0.06, 0.04);
-  lattice.spacing = 0.005;
-  const auto block = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice));
-  ASSERT_GE(block->num_nodes(), 1'000);
-  BodyOptions body_options;
-  body_options.damping_beta = 1e-4;
-  body_options.restitution = 0.5;
-  const int body = world.AddBody("block", block, body_options);
-  Collider ground;
-  ground.pose.translation().z() =
-      block->rest_positions().row(2).minCoeff() - world.border(body).radii[0] - 1e-3;
-  world.AddCollider(ground);
+  const int body = AddBlockAboveGround(&world);
   for (int step = 0; step < 10; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
   const State before = world.state(body);
   // Moving everywhere: a restored node that kept its old value would show.
   ASSERT_GT(before.velocities.row(2).cwiseAbs().minCoeff(), 0.0);
-  const double top = block->rest_positions().row(2).maxCoeff();
+  const double top = world.model(body).rest_positions().row(2).maxCoeff();
   world.ApplyForce(body, Eigen::Vector3d(0.03, 0.03, top), Eigen::Vector3d(1e12, 0.0, 0.0), 0.01,
                    0.0);
   const StepReport report = world.Step(1e-3);
