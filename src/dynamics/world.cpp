@@ -75,19 +75,6 @@ void World::ImpulseSum::Merge(const ImpulseSum& other) {
   area_time += other.area_time;
 }
 
-void World::ImpulseSum::Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
-                            const Eigen::Vector3d& on_collider) {
-  // Tested on the square: the branch then need not wait for the square root.
-  const double magnitude_sq = on_collider.squaredNorm();
-  if (magnitude_sq == 0.0) return;
-  const double magnitude = std::sqrt(magnitude_sq);
-  impulse += on_collider;
-  moment += (point - origin).cross(on_collider);
-  weighted_point += magnitude * point;
-  weight += magnitude;
-  ++count;
-}
-
 World::World(const WorldOptions& options) : options_(options) {
   Require(options.gravity.allFinite(), "gravity must be finite");
   Require(options.time_step_safety > 0.0 && options.time_step_safety <= 1.0,
