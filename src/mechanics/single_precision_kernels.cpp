@@ -26,11 +26,11 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(c
   });
   auto springs = std::make_shared<SinglePrecisionSprings>();
   SinglePrecisionSprings& out = *springs;
-  const auto add_slot = [&](float k, float rest, float weight_a, float weight_b) {
+  const auto add_slot = [&](float k, float rest, float outflow_a, float outflow_b) {
     out.stiffness.push_back(k);
     out.rest.push_back(rest);
-    out.weight_a.push_back(weight_a);
-    out.weight_b.push_back(weight_b);
+    out.outflow_a.push_back(outflow_a);
+    out.outflow_b.push_back(outflow_b);
   };
   for (int p = 0; p < count; ++p) {
     const SpringIndex s = order[p];
@@ -48,12 +48,13 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(c
     }
     out.max_offset = std::max(out.max_offset, offset(s));
     const bool swapped = node_a[s] > node_b[s];
+    const double k = model.spring_stiffness()[s];
     const double rest = model.spring_rest_length()[s];
-    const double weight_a = model.dispersion_weight_a()[s] * rest;
-    const double weight_b = model.dispersion_weight_b()[s] * rest;
-    add_slot(static_cast<float>(model.spring_stiffness()[s]), static_cast<float>(rest),
-             static_cast<float>(swapped ? weight_b : weight_a),
-             static_cast<float>(swapped ? weight_a : weight_b));
+    const double outflow_a = model.dispersion_weight_a()[s] * rest * k;
+    const double outflow_b = model.dispersion_weight_b()[s] * rest * k;
+    add_slot(static_cast<float>(k), static_cast<float>(rest),
+             static_cast<float>(swapped ? outflow_b : outflow_a),
+             static_cast<float>(swapped ? outflow_a : outflow_b));
   }
   return springs;
 }
@@ -119,46 +120,44 @@ inline float* BEnd(float* shared, float* overflow, int b, int end, bool beyond) 
 }
 
 // One run of the eMSM first pass, its pointers as restrict parameters (GCC then trusts them;
-// as restrict locals it kept a scalar fallback and took it). Only the elastic tension
-// k (L - L0) feeds the accumulators, so this pass needs no velocities and no 1 / L, and it
-// stores nothing per slot. Node arrays start at the run's a0, per-slot arrays at its first
-// slot, jb at node a0 + d.
+// as restrict locals it kept a scalar fallback and took it). Only the elastic tension feeds the
+// accumulators (as the outflow times the stretch L - L0), so this pass needs no velocities and
+// no 1 / L, and it stores nothing per slot. Node arrays start at the run's a0, per-slot arrays at
+// its first slot, jb at node a0 + d.
 inline __attribute__((always_inline)) void InflowRun(
     int n, int d, const float* __restrict px, const float* __restrict py,
-    const float* __restrict pz, const float* __restrict k, const float* __restrict rest,
-    const float* __restrict weight_a, const float* __restrict weight_b, float* __restrict ja,
-    float* __restrict jb) {
+    const float* __restrict pz, const float* __restrict rest, const float* __restrict outflow_a,
+    const float* __restrict outflow_b, float* __restrict ja, float* __restrict jb) {
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float elastic = k[i] * (std::sqrt(rx * rx + ry * ry + rz * rz) - rest[i]);
-    ja[i] += weight_a[i] * elastic;
-    jb[i] += weight_b[i] * elastic;
+    const float stretch = std::sqrt(rx * rx + ry * ry + rz * rz) - rest[i];
+    ja[i] += outflow_a[i] * stretch;
+    jb[i] += outflow_b[i] * stretch;
   }
 }
 
 // One run of the pass that applies the springs' forces, its pointers as restrict parameters
 // (as InflowRun): the plain pass, and the eMSM second pass when Dispersed, which adds the
-// dispersed tension k (w_a g_a + w_b g_b) (g from the run's a0). The second pass recomputes L
-// and 1 / L rather than reading them from the first: on the 12k block the two stored arrays
-// cost more than the square root and the division (docs/physics.md §9). The b ends' forces
-// start at node a0 + d.
+// dispersed tension o_a g_a + o_b g_b (o the end outflows v k L0, g from the run's a0). The second
+// pass recomputes L and 1 / L rather than reading them from the first: on the 12k block the two
+// stored arrays cost more than the square root and the division (docs/physics.md §9). The b ends'
+// forces start at node a0 + d.
 template <bool Damped, bool Dispersed>
 inline __attribute__((always_inline)) void ForceRun(
     int n, int d, const float* __restrict px, const float* __restrict py,
     const float* __restrict pz, const float* __restrict vx, const float* __restrict vy,
     const float* __restrict vz, float beta, const float* __restrict g, const float* __restrict k,
-    const float* __restrict rest, const float* __restrict weight_a,
-    const float* __restrict weight_b, float* __restrict fax, float* __restrict fay,
+    const float* __restrict rest, const float* __restrict outflow_a,
+    const float* __restrict outflow_b, float* __restrict fax, float* __restrict fay,
     float* __restrict faz, float* __restrict fbx, float* __restrict fby, float* __restrict fbz) {
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
     const float length = std::sqrt(rx * rx + ry * ry + rz * rz);
     const float inverse_length = InverseLength(length);
-    float stretch = length - rest[i];
-    if constexpr (Dispersed) stretch += weight_a[i] * g[i] + weight_b[i] * g[i + d];
-    float t = k[i] * stretch;
+    float t = k[i] * (length - rest[i]);
+    if constexpr (Dispersed) t += outflow_a[i] * g[i] + outflow_b[i] * g[i + d];
     if constexpr (Damped)
       t += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
     const float scale = t * inverse_length;
@@ -179,7 +178,7 @@ inline __attribute__((always_inline)) void ForcesImpl(
       ForceRun<Damped, Dispersed>(count, run.offset, positions.x + a, positions.y + a,
                                   positions.z + a, From(v.x, a), From(v.y, a), From(v.z, a), beta,
                                   From(g, a), springs.stiffness.data() + f, springs.rest.data() + f,
-                                  springs.weight_a.data() + f, springs.weight_b.data() + f,
+                                  springs.outflow_a.data() + f, springs.outflow_b.data() + f,
                                   forces.a.x + a, forces.a.y + a, forces.a.z + a,
                                   BEnd(forces.b.x, overflow.x, b, end, beyond),
                                   BEnd(forces.b.y, overflow.y, b, end, beyond),
@@ -272,9 +271,8 @@ void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& 
     ForRunInShare(run, share, [&](int a, int count, bool beyond) {
       const int b = a + run.offset, f = run.first + (a - run.a0);
       InflowRun(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
-                springs.stiffness.data() + f, springs.rest.data() + f, springs.weight_a.data() + f,
-                springs.weight_b.data() + f, j_a + a,
-                BEnd(j_b, j_b_overflow, b, share.end, beyond));
+                springs.rest.data() + f, springs.outflow_a.data() + f, springs.outflow_b.data() + f,
+                j_a + a, BEnd(j_b, j_b_overflow, b, share.end, beyond));
     });
   }
 }

@@ -33,10 +33,11 @@ struct SinglePrecisionSprings {
   static constexpr int kMaxRunLength = 512;
 
   std::vector<SingleRun> runs;
-  /// Per slot: k, L0, and each end's dispersion weight v L0 (the model's v at that end). The
-  /// eMSM's inflow q v L0 and outflow v k L0 (docs/physics.md §3) are this weight times q and
-  /// times k: one array per end serves both passes.
-  std::vector<float> rest, stiffness, weight_a, weight_b;
+  /// Per slot: k, L0, and each end's eMSM outflow v k L0 (v the model's dispersion weight at
+  /// that end, docs/physics.md §3). The inflow q v L0 times the tension k (L - L0) is the same
+  /// outflow times q (L - L0), so one array per end serves both passes, q applied per node
+  /// (SingleDispersion); the first pass then reads three arrays per slot instead of four.
+  std::vector<float> rest, stiffness, outflow_a, outflow_b;
   int num_phantoms = 0;
   /// The largest offset of a run: the longest overflow of a share (SingleShare).
   int max_offset = 0;
@@ -108,15 +109,16 @@ void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& s
                      float beta, const SingleEndForces& forces,
                      const MutableSingleNodeArrays& overflow);
 
-/// eMSM first pass: adds each slot's end weight v L0 times its elastic tension k (L - L0) to the
-/// a ends' accumulators `j_a` and the b ends' `j_b` (from node share.end on: `j_b_overflow`);
-/// SingleDispersion applies q. Dampers do not disperse, so it takes no velocities.
+/// eMSM first pass: adds each slot's end outflow v k L0 times its stretch L - L0 (the end weight
+/// v L0 times the elastic tension) to the a ends' accumulators `j_a` and the b ends' `j_b` (from
+/// node share.end on: `j_b_overflow`); SingleDispersion applies q. Dampers do not disperse, so
+/// it takes no velocities.
 void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                       const SingleNodeArrays& positions, float* j_a, float* j_b,
                       float* j_b_overflow);
 
-/// eMSM second pass: total tension = k (L - L0 + w_a g_a + w_b g_b) plus the damper's (w the
-/// end weights v L0, g = J / W per node), applied to both ends.
+/// eMSM second pass: total tension = k (L - L0) + o_a g_a + o_b g_b plus the damper's (o the
+/// end outflows v k L0, g = J / W per node), applied to both ends.
 void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                        const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                        float beta, const float* dispersion_per_weight,

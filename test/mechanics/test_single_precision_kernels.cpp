@@ -101,8 +101,8 @@ TEST(SinglePrecisionSchedule, PhantomsJoinABoxsRowsAndCarryNothing) {
   for (int slot = 0; slot < springs->num_slots(); ++slot) {
     if (springs->stiffness[slot] == 0.0f) {
       ++phantoms;
-      EXPECT_EQ(springs->weight_a[slot], 0.0f);
-      EXPECT_EQ(springs->weight_b[slot], 0.0f);
+      EXPECT_EQ(springs->outflow_a[slot], 0.0f);
+      EXPECT_EQ(springs->outflow_b[slot], 0.0f);
     }
   }
   EXPECT_EQ(phantoms, springs->num_phantoms);
