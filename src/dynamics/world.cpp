@@ -80,6 +80,9 @@ World::World(const WorldOptions& options) : options_(options) {
   Require(options.time_step_safety > 0.0 && options.time_step_safety <= 1.0,
           "time step safety must lie in (0, 1]");
   Require(options.max_speed > 0.0, "max speed must be > 0");
+  Require(options.max_substep_refinement >= 1 &&
+              (options.max_substep_refinement & (options.max_substep_refinement - 1)) == 0,
+          "max substep refinement must be a power of 2 (1 turns it off)");
   Require(options.contact_iterations >= 1, "contact iterations must be >= 1");
   Require(options.implicit_max_substep > 0.0 && Finite(options.implicit_max_substep),
           "implicit max substep must be finite and > 0");
@@ -316,6 +319,7 @@ void World::Reset() {
     body.contact_points.clear();
   }
   time_ = 0.0;
+  substep_refinement_ = 1;  // the rest shape's stable step holds again
 }
 
 }  // namespace msm_sim::core

@@ -86,13 +86,29 @@ StepReport World::Step(double dt) {
   StepReport report;
   const StepStart start = SaveForRollback();
   const bool implicit = options_.integrator == Integrator::kImplicit;
-  report.substeps = NumSubsteps(dt, implicit ? options_.implicit_max_substep : stable_time_step());
-  report.substep = dt / report.substeps;
-  ClearStepRecords();
-  const std::vector<Eigen::Isometry3d> poses = BeginColliderEntries(dt, start.collider_poses);
-  const std::string problem = RunSubsteps(report.substeps, report.substep, poses);
-  EndColliderEntries(problem.empty());
+  std::string problem;
+  const int refinement_before = substep_refinement_;
+  for (;;) {
+    report.substeps = NumSubsteps(
+        dt, implicit ? options_.implicit_max_substep : stable_time_step() / substep_refinement_);
+    report.substep = dt / report.substeps;
+    report.substep_refinement = substep_refinement_;
+    ClearStepRecords();
+    const std::vector<Eigen::Isometry3d> poses = BeginColliderEntries(dt, start.collider_poses);
+    problem = RunSubsteps(report.substeps, report.substep, poses);
+    EndColliderEntries(problem.empty());
+    if (problem.empty() || !MayRefineSubsteps()) break;
+    // The stable step comes from the rest shape; a deformed body can vibrate faster (a deep
+    // press, docs/physics.md §7). From the step's start, with half the substep, for good.
+    RestoreStepStart(start);
+    substep_refinement_ *= 2;
+    if (report.refined_because.empty()) report.refined_because = problem;
+  }
   if (!problem.empty()) {
+    // Finer substeps did not cure it (an absurd force, a kinematic group teleported): they
+    // would only slow every later step.
+    substep_refinement_ = refinement_before;
+    report.substep_refinement = substep_refinement_;
     // An absurd push is what usually makes a step fail; keeping it would fail every step.
     const bool dropped = RollBack(start);
     // Without a push to drop, the saved state itself diverges and every later step would fail
@@ -184,7 +200,19 @@ void World::RestoreRestShapes() {
   }
 }
 
-bool World::RollBack(const StepStart& start) {
+bool World::MayRefineSubsteps() const {
+  // Without a finite stable step (free particles) the substep is the whole step either way.
+  if (options_.integrator != Integrator::kExplicit ||
+      substep_refinement_ >= options_.max_substep_refinement ||
+      !std::isfinite(stable_time_step())) {
+    return false;
+  }
+  // A push is what usually makes a step fail (an absurd force): RollBack drops it instead.
+  return std::all_of(bodies_.begin(), bodies_.end(),
+                     [](const Body& body) { return body.pushes.empty(); });
+}
+
+void World::RestoreStepStart(const StepStart& start) {
   for (Body& body : bodies_) {
     body.state.positions = body.saved_positions;
     body.state.velocities = body.saved_velocities;
@@ -194,6 +222,10 @@ bool World::RollBack(const StepStart& start) {
   }
   for (std::size_t c = 0; c < colliders_.size(); ++c) colliders_[c].pose = start.collider_poses[c];
   time_ = start.time;
+}
+
+bool World::RollBack(const StepStart& start) {
+  RestoreStepStart(start);
   bool dropped = false;
   for (Body& body : bodies_) {
     dropped = dropped || !body.pushes.empty();

@@ -13,13 +13,15 @@ namespace {
 
 void CheckOptions(const RealtimeExperimentOptions& options) {
   const double sum = options.sphere_radius + options.speed + options.seconds + options.step +
-                     options.damping_beta + options.gravity + options.friction;
+                     options.damping_beta + options.gravity + options.friction +
+                     options.time_step_safety;
   if (!(options.sphere_radius > 0.0) || !(options.speed > 0.0) || !(options.seconds > 0.0) ||
       !(options.step > 0.0) || !(options.damping_beta >= 0.0) || !(options.gravity >= 0.0) ||
-      !(options.friction >= 0.0) || !std::isfinite(sum)) {
+      !(options.friction >= 0.0) || !(options.time_step_safety > 0.0) ||
+      !(options.time_step_safety <= 1.0) || !std::isfinite(sum)) {
     throw std::invalid_argument(
         "real-time run: sphere radius, speed, seconds and step must be finite and > 0, damping, "
-        "gravity and friction finite and >= 0");
+        "gravity and friction finite and >= 0, the time step safety in (0, 1]");
   }
 }
 
@@ -34,6 +36,7 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   world_options.implicit_max_substep = options.step;
   world_options.threads = options.threads;
   world_options.spring_precision = options.spring_precision;
+  world_options.time_step_safety = options.time_step_safety;
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;
@@ -60,8 +63,10 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
     result.substeps = std::max(result.substeps, report.substeps);
     result.substep = report.substep;
     solver_iterations += report.solver_iterations;
-    result.peak_force = std::max(result.peak_force, world.wrenches(body)[finger].force.norm());
+    result.final_force = world.wrenches(body)[finger].force.norm();
+    result.peak_force = std::max(result.peak_force, result.final_force);
   }
+  result.substep_refinement = world.substep_refinement();
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.steps = steps;

@@ -84,6 +84,10 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
       << "wall / simulated " << result.wall_per_simulated_second << "\n"
       << "real-time factor " << result.real_time_factor << "\n"
       << "peak force       " << result.peak_force << " N\n";
+  if (result.substep_refinement > 1) {
+    out << "substeps refined " << result.substep_refinement
+        << "x finer after a step diverged at the stable step (docs/physics.md section 7)\n";
+  }
   return 0;
 }
 

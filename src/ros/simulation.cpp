@@ -22,6 +22,7 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   core::WorldOptions options;
   options.gravity = config.gravity;
   options.time_step_safety = config.time_step_safety;
+  options.max_substep_refinement = config.max_substep_refinement;
   options.integrator = config.integrator;
   options.threads = config.threads;
   options.spring_precision = config.spring_precision;
@@ -242,6 +243,13 @@ void Simulation::Advance(double seconds, const ros::Time& now, const ros::WallTi
     ++steps_;
     ++steps_since_report_;
     last_substeps_ = report.substeps;
+    if (!report.refined_because.empty() && report.accepted) {
+      ROS_WARN(
+          "msm_sim: a step diverged at the stable substep (%s); it was taken again and every "
+          "step now takes %d substeps (%dx finer, until reset). Deep presses of nearly "
+          "incompressible objects do this; a lower ~world/time_step_safety avoids it",
+          report.refined_because.c_str(), report.substeps, report.substep_refinement);
+    }
     if (!report.accepted) {
       ++rejected_steps_;
       last_rejection_ = report.reason;

@@ -38,6 +38,7 @@ const std::set<std::string> kWorldKeys = {"frame",
                                           "real_time",
                                           "max_force",
                                           "time_step_safety",
+                                          "max_substep_refinement",
                                           "integrator",
                                           "threads",
                                           "spring_precision",
@@ -70,6 +71,14 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
     Fail(path + "/time_step_safety", "must be in (0, 1], a fraction of the stability limit; got " +
                                          std::to_string(config.time_step_safety));
   }
+  const double refinement =
+      Positive(world, "max_substep_refinement", config.max_substep_refinement, path);
+  if (refinement != std::floor(refinement) || refinement > 64.0 ||
+      (static_cast<int>(refinement) & (static_cast<int>(refinement) - 1)) != 0) {
+    Fail(path + "/max_substep_refinement",
+         "must be a power of 2 from 1 (off) to 64; got " + std::to_string(refinement));
+  }
+  config.max_substep_refinement = static_cast<int>(refinement);
   const double threads = Positive(world, "threads", 1.0, path);
   if (threads != std::floor(threads) || threads > 64.0) {
     Fail(path + "/threads", "must be a whole number from 1 to 64; got " + std::to_string(threads));

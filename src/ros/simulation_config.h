@@ -88,6 +88,9 @@ struct WorldConfig {
   /// Fraction of the explicit stability limit used as substep, (0, 1]: lower is slower but
   /// resolves contacts more finely (docs/physics.md §7).
   double time_step_safety = 0.8;
+  /// Explicit: a step that diverges is taken again with up to this many times finer substeps,
+  /// kept from then on (core::WorldOptions::max_substep_refinement); a power of 2, 1 = off.
+  int max_substep_refinement = 8;
   /// explicit (position Verlet in stable substeps) or implicit (one linearly implicit substep of
   /// up to 1 ms, docs/physics.md §7.1).
   core::Integrator integrator = core::Integrator::kExplicit;

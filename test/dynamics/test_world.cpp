@@ -365,6 +365,9 @@ TEST(World, ARejectedStepOnTwoThreadsRestoresBothShares) {
                    0.0);
   const StepReport report = world.Step(1e-3);
   ASSERT_FALSE(report.accepted);
+  // A push in flight is dropped, not worked around with finer substeps.
+  EXPECT_TRUE(report.refined_because.empty());
+  EXPECT_EQ(world.substep_refinement(), 1);
   EXPECT_EQ(world.state(body).positions, before.positions);
   EXPECT_EQ(world.state(body).velocities, before.velocities);
   EXPECT_TRUE(world.Step(1e-3).accepted) << "the next step goes on from the kept state";
@@ -393,6 +396,9 @@ TEST(World, AStateThatFailsByItselfIsStopped) {
   const StepReport failed = world.Step(1e-3);
   ASSERT_FALSE(failed.accepted);
   EXPECT_NE(failed.reason.find("stopped where they are"), std::string::npos) << failed.reason;
+  // Finer substeps were tried (no push to drop) and did not help: not kept.
+  EXPECT_FALSE(failed.refined_because.empty());
+  EXPECT_EQ(world.substep_refinement(), 1);
   EXPECT_EQ(world.state(body).positions, state.positions);
   EXPECT_EQ(world.state(body).velocities.norm(), 0.0);
   EXPECT_EQ(world.time(), 0.0);
@@ -418,6 +424,69 @@ TEST(World, AShapeThatDivergesAtRestGoesBackToItsRestShape) {
   EXPECT_NE(restored.reason.find("rest shape"), std::string::npos) << restored.reason;
   EXPECT_EQ(world.state(body).positions, block->rest_positions());
   for (int step = 0; step < 10; ++step) ASSERT_TRUE(world.Step(1e-3).accepted);
+}
+
+// A block held stretched by 30 % along z between two clamped layers (kinematic groups), without
+// dampers, stepped at exactly its stable step (safety 1): the stretched springs' geometric
+// stiffness raises the highest frequency above the rest shape's, so the step diverges
+// (rejected within a few dozen steps when refinement is off). With refinement the diverging
+// step is taken again with twice the substeps and every step is accepted; Reset restores the
+// rest shape's substep.
+World StretchedBlockAtTheStableStep(int max_substep_refinement, int* body) {
+  WorldOptions options{Eigen::Vector3d::Zero()};
+  options.time_step_safety = 1.0;
+  options.max_substep_refinement = max_substep_refinement;
+  World world(options);
+  const auto block = Block();
+  *body = world.AddBody("block", block);
+  const double stretch = 1.3, lift = (stretch - 1.0) * 0.16;  // layers at z = 2 ... 18 cm
+  world.AddKinematicGroup(
+      *body, KinematicGroup{
+                 "base",
+                 NodesInHalfSpace(*block, Eigen::Vector3d(0, 0, 0.03), Eigen::Vector3d::UnitZ()),
+                 {}});
+  world.AddKinematicGroup(
+      *body,
+      KinematicGroup{
+          "top", NodesInHalfSpace(*block, Eigen::Vector3d(0, 0, 0.17), -Eigen::Vector3d::UnitZ()),
+          [lift](double) {
+            Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+            pose.translation().z() = lift;
+            return pose;
+          }});
+  State state = world.state(*body);
+  state.positions.row(2) =
+      ((block->rest_positions().row(2).array() - 0.02) * stretch + 0.02).matrix();
+  world.SetState(*body, state);
+  return world;
+}
+
+TEST(World, ADivergingStepIsTakenAgainWithFinerSubsteps) {
+  int body = 0;
+  World without = StretchedBlockAtTheStableStep(1, &body);
+  const double dt = without.stable_time_step();
+  bool rejected = false;
+  for (int step = 0; step < 100 && !rejected; ++step) rejected = !without.Step(dt).accepted;
+  ASSERT_TRUE(rejected) << "the stretched block must diverge at the rest shape's stable step";
+
+  World world = StretchedBlockAtTheStableStep(WorldOptions{}.max_substep_refinement, &body);
+  ASSERT_EQ(world.stable_time_step(), dt);
+  int refined_steps = 0;
+  for (int step = 0; step < 300; ++step) {
+    const StepReport report = world.Step(dt);
+    ASSERT_TRUE(report.accepted) << "step " << step << ": " << report.reason;
+    EXPECT_EQ(report.substeps, report.substep_refinement);  // dt is one stable step
+    if (!report.refined_because.empty()) {
+      ++refined_steps;
+      EXPECT_NE(report.refined_because.find("m/s"), std::string::npos) << report.refined_because;
+    }
+  }
+  EXPECT_GE(refined_steps, 1);
+  EXPECT_GE(world.substep_refinement(), 2);
+  EXPECT_LE(world.substep_refinement(), WorldOptions{}.max_substep_refinement);
+  EXPECT_TRUE(world.state(body).positions.allFinite());
+  world.Reset();
+  EXPECT_EQ(world.substep_refinement(), 1);
 }
 
 }  // namespace

@@ -68,6 +68,8 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   EXPECT_EQ(defaults.world.spring_precision, msm_sim::core::SpringPrecision::kSingle);
   scene.setParam("world/integrator", std::string("implicit"));
   scene.setParam("world/time_step_safety", 0.4);
+  EXPECT_EQ(defaults.world.max_substep_refinement, 8);
+  scene.setParam("world/max_substep_refinement", 2);
   scene.setParam("world/spring_precision", std::string("double"));
   EXPECT_EQ(defaults.world.penetration_recovery_time, 0.05);
   EXPECT_EQ(defaults.world.penetration_max_speed, 0.1);
@@ -76,6 +78,7 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   const auto config = msm_sim::ros_interface::LoadSimulationConfig(scene);
   EXPECT_EQ(config.world.integrator, msm_sim::core::Integrator::kImplicit);
   EXPECT_EQ(config.world.time_step_safety, 0.4);
+  EXPECT_EQ(config.world.max_substep_refinement, 2);
   EXPECT_EQ(config.world.spring_precision, msm_sim::core::SpringPrecision::kDouble);
   EXPECT_EQ(config.world.penetration_recovery_time, 0.02);
   EXPECT_EQ(config.world.penetration_max_speed, 0.0);
@@ -171,6 +174,8 @@ TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("world/publish_rate", 0.0, "~world/publish_rate");
   ExpectConfigError("world/time_step_safety", 1.5, "~world/time_step_safety");
   ExpectConfigError("world/time_step_safety", 0.0, "~world/time_step_safety");
+  ExpectConfigError("world/max_substep_refinement", 3, "~world/max_substep_refinement");
+  ExpectConfigError("world/max_substep_refinement", 0.5, "~world/max_substep_refinement");
   ExpectConfigError("world/integrator", std::string("rk4"), "~world/integrator");
   ExpectConfigError("world/spring_precision", std::string("half"), "~world/spring_precision");
   ExpectConfigError("world/penetration_recovery_time", 0.0, "~world/penetration_recovery_time");

@@ -14,6 +14,12 @@ struct StepReport {
   /// Implicit integrator: conjugate-gradient iterations summed over the step's substeps (each
   /// costs one stiffness product); 0 for the explicit one.
   int solver_iterations = 0;
+  /// Explicit: the factor by which the World divides the stable substep (1, or a power of 2 once
+  /// a step has diverged; WorldOptions::max_substep_refinement).
+  int substep_refinement = 1;
+  /// Why this step was taken again with finer substeps (the divergence CheckSane found at the
+  /// coarser ones); empty if it was not.
+  std::string refined_because;
 };
 
 }  // namespace msm_sim::core

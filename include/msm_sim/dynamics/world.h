@@ -124,8 +124,12 @@ class World {
   std::vector<NodeIndex> constrained_nodes(int body) const {
     return bodies_.at(body).ConstrainedNodes();
   }
-  /// The stable substep of the stiffest body (s).
+  /// The stable substep of the stiffest body (s), computed at rest; explicit steps divide it by
+  /// substep_refinement().
   double stable_time_step() const;
+  /// 1, or the power of 2 the World has divided the stable substep by since a step diverged
+  /// (WorldOptions::max_substep_refinement); Reset() puts it back to 1.
+  int substep_refinement() const { return substep_refinement_; }
   Energies ComputeEnergies(int body) const;
 
   /// Wrenches body `body` exerted during the last Step: one per collider (index = collider
@@ -257,6 +261,10 @@ class World {
   std::string RunSubsteps(int count, double h, const std::vector<Eigen::Isometry3d>& start_poses);
   /// Restores what SaveForRollback saved and drops the pushes; returns whether there were any.
   bool RollBack(const StepStart& start);
+  /// Restores what SaveForRollback saved (bodies, collider poses, time); keeps the pushes.
+  void RestoreStepStart(const StepStart& start);
+  /// Whether a step that failed with no push in flight may be taken again with finer substeps.
+  bool MayRefineSubsteps() const;
   /// Zeroes every body's velocities and pending restitution (a failed step with nothing to drop).
   void StopBodies();
   /// Puts every body at rest in its rest shape, its kinematic groups at their current poses.
@@ -485,6 +493,7 @@ class World {
   int microcollisions_ = 0;
   int solver_iterations_ = 0;           // during the current Step (implicit)
   bool stopped_after_failure_ = false;  // the last Step failed and stopped the bodies
+  int substep_refinement_ = 1;          // explicit: stable substep divided by this (Step)
   int substep_index_ = 0;               // of the current substep within its Step
   double substep_ = 0.0;                // s, the current substep
 

@@ -28,6 +28,7 @@ struct RealtimeExperimentOptions {
   Integrator integrator = Integrator::kExplicit;
   int threads = 1;                                              ///< >= 1: WorldOptions::threads
   SpringPrecision spring_precision = SpringPrecision::kSingle;  ///< WorldOptions::spring_precision
+  double time_step_safety = 0.8;  ///< in (0, 1]: WorldOptions::time_step_safety
 };
 
 struct RealtimeExperimentResult {
@@ -43,6 +44,10 @@ struct RealtimeExperimentResult {
   double wall_per_simulated_second = 0.0;
   double real_time_factor = 0.0;  ///< simulated over wall time: 1 / wall_per_simulated_second
   double peak_force = 0.0;        ///< N, the largest |force| the body exerted on the sphere
+  double final_force = 0.0;       ///< N, |force| on the sphere during the last step
+  /// The World's substep_refinement at the end: > 1 if a step diverged and was taken again with
+  /// finer substeps (WorldOptions::max_substep_refinement).
+  int substep_refinement = 1;
   /// Implicit: conjugate-gradient iterations (stiffness products) per step, the mean; 0 explicit.
   double solver_iterations_per_step = 0.0;
 };
