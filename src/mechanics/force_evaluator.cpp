@@ -583,11 +583,13 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       clear(t, j_a, 2, 3, 3);
       SingleInflowRuns(*single_, shares[t], x_arrays, j_a, j_b, overflow(t, 3));
     });
-    // J and g in double as well: a one-pass evaluation after this one lags on them.
+    // J and g in double as well where a one-pass evaluation after this one lags on them; two
+    // passes never read them (storing them was half of SingleDispersion's time).
+    const bool lag_next = passes_ == DispersionPasses::kOnePass;
     RunShares(count, [&](int t) {
       GatherOverflows(overflow(0, 3), 4 * length, length, shares, t, j_b);
       SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), n,
-                       shares[t].begin, shares[t].end, accumulator_.data(),
+                       shares[t].begin, shares[t].end, lag_next ? accumulator_.data() : nullptr,
                        dispersion_per_weight_.data(), single_dispersion_.data());
     });
     RunShares(count, [&](int t) {
