@@ -98,8 +98,9 @@ StepReport World::Step(double dt) {
     problem = RunSubsteps(report.substeps, report.substep, poses);
     EndColliderEntries(problem.empty());
     if (problem.empty() || !MayRefineSubsteps()) break;
-    // The stable step comes from the rest shape; a deformed body can vibrate faster (a deep
-    // press, docs/physics.md §7). From the step's start, with half the substep, for good.
+    // The stable step holds for small motions about the rest shape; a lattice that buckles and
+    // snaps under a deep press outruns it (docs/physics.md §7, "Deep presses"). From the step's
+    // start, with half the substep, for good.
     RestoreStepStart(start);
     substep_refinement_ *= 2;
     if (report.refined_because.empty()) report.refined_because = problem;

@@ -41,9 +41,10 @@ struct WorldOptions {
   /// Explicit only: a step that diverges (fails the max_speed check) while no push is in flight
   /// is taken again from its start with twice the substeps, up to this factor (a power of 2,
   /// >= 1; 1 turns it off), and the World keeps the finer substep from then on. The stable step
-  /// is computed at the rest shape; a deep press can raise the highest frequency past it (the
-  /// 4 mm realtime block at nu = 0.49, surface_dispersion 0.25, pressed 9 mm by a 1 cm sphere:
-  /// docs/physics.md §7). A step that diverges at the largest factor too is rejected as before.
+  /// holds for small motions about the rest shape; a lattice that buckles and snaps (the 4 mm
+  /// realtime block at nu = 0.49, surface_dispersion 0.25, pressed 9 mm by a 1 cm sphere:
+  /// docs/physics.md §7, "Deep presses") moves faster than it resolves. A step that diverges at
+  /// the largest factor too is rejected as before.
   int max_substep_refinement = 8;
   /// Gauss-Seidel sweeps over a node's contacts with colliders, so that touching several
   /// surfaces at once (a wedge, a gripper) ends with no approach towards any of them.
