@@ -70,6 +70,7 @@ struct ContactArguments {
   double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
   int threads = 1;                      ///< realtime: WorldOptions::threads
+  double time_step_safety = 0.8;        ///< realtime: WorldOptions::time_step_safety, (0, 1]
   std::string precision = "single";     ///< single | double (WorldOptions::spring_precision)
 };
 

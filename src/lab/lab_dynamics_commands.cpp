@@ -56,6 +56,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.integrator = IntegratorNamed(contact.integrator);
   options.threads = contact.threads;
   options.spring_precision = PrecisionNamed(contact.precision);
+  options.time_step_safety = contact.time_step_safety;
   const auto model = LabBlock(arguments.model);
   const core::RealtimeExperimentResult result = core::RunRealtimeExperiment(model, options);
   if (arguments.json) {

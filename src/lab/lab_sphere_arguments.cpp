@@ -97,6 +97,12 @@ void AddSphereCommands(CLI::App* app, CommandLine* line) {
                    "1,000 nodes or more)")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  realtime
+      ->add_option("--time-step-safety", contact.time_step_safety,
+                   "explicit integrator: the fraction of the stable step each substep takes, in "
+                   "(0, 1]")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 1.0));
   realtime->add_flag("--json", line->arguments.json, "print one JSON object");
 
   CLI::App* indent = line->indent = app->add_subcommand(

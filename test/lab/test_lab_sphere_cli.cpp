@@ -75,6 +75,12 @@ TEST(LabCliRealtime, ASofterOuterLayerTakesFewerSubsteps) {
   EXPECT_EQ(plain_substeps, 15);
   EXPECT_EQ(softer_substeps, 11);
   EXPECT_EQ(quarter_substeps, 10);
+  // --time-step-safety scales the substep: at 0.4 instead of 0.8, twice as many (rounded up).
+  const LabRun half = RunLab(block + " --time-step-safety 0.4 --json");
+  ASSERT_EQ(half.exit_code, 0) << half.err;
+  const int half_substeps = nlohmann::json::parse(half.out)["substeps"];
+  EXPECT_GE(half_substeps, 2 * plain_substeps - 1);
+  EXPECT_LE(half_substeps, 2 * plain_substeps);
   const LabRun table = RunLab(block + " --surface-dispersion 0.5");
   ASSERT_EQ(table.exit_code, 0) << table.err;
   EXPECT_NE(table.out.find("outer layer keeping 0.5 of its bulk"), std::string::npos) << table.out;
@@ -171,6 +177,8 @@ INSTANTIATE_TEST_SUITE_P(
                  "--sphere-radius 0.01 --depth 0.001 --friction -0.5",
                  "--friction"},
         BadInput{"realtime --spacing 0.01 --poisson 0.7", "Poisson"},
+        BadInput{"realtime --spacing 0.01 --poisson 0.25 --time-step-safety 1.5",
+                 "--time-step-safety"},
         BadInput{"realtime --poisson 0.25", "--spacing"}));
 
 }  // namespace
