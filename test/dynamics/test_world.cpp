@@ -427,11 +427,11 @@ TEST(World, AShapeThatDivergesAtRestGoesBackToItsRestShape) {
 }
 
 // A block held stretched by 30 % along z between two clamped layers (kinematic groups), without
-// dampers, stepped at exactly its stable step (safety 1): the stretched springs' geometric
-// stiffness raises the highest frequency above the rest shape's, so the step diverges
-// (rejected within a few dozen steps when refinement is off). With refinement the diverging
-// step is taken again with twice the substeps and every step is accepted; Reset restores the
-// rest shape's substep.
+// dampers, stepped at exactly its stable step (safety 1): the stretched springs' tension adds a
+// stiffness T / L across each of them, which lifts the highest frequency above the rest shape's,
+// and at safety 1 any lift diverges (rejected within a few dozen steps when refinement is off).
+// With refinement the diverging step is taken again with twice the substeps and every step is
+// accepted; Reset restores the rest shape's substep.
 World StretchedBlockAtTheStableStep(int max_substep_refinement, int* body) {
   WorldOptions options{Eigen::Vector3d::Zero()};
   options.time_step_safety = 1.0;
