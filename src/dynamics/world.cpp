@@ -255,6 +255,7 @@ void World::SetState(int body_index, const State& state) {
   Require(state.positions.allFinite() && state.velocities.allFinite(), "state must be finite");
   body.state = state;
   body.pending.clear();
+  body.sliding_friction.resize(3, 0);  // a node put somewhere new has not been sliding
 }
 
 double World::stable_time_step() const {
@@ -314,6 +315,7 @@ void World::Reset() {
     body.pending.clear();
     body.pushes.clear();
     body.implicit_dv.resize(3, 0);  // no warm start from before the reset
+    body.sliding_friction.resize(3, 0);
     PlaceGroups(&body, 0.0);
     std::fill(body.wrenches.begin(), body.wrenches.end(), ContactWrench{});
     body.contact_points.clear();

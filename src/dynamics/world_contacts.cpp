@@ -224,9 +224,25 @@ std::vector<World::ContactNormal> World::DeepestColliderContacts(const Body& bod
     const double closing_speed = std::max(best.distance - radius, 0.0) / h;
     const double approach =
         -(Eigen::Vector3d(body.state.velocities.col(node)) - best.velocity).dot(best.normal);
+    const double friction = Friction(body, best.collider);
+    // A contact starts stuck unless its node slid in the last kick: then it starts sliding
+    // with that Coulomb impulse, turned into the new tangent plane (the solve's passes correct
+    // either guess; a good one saves a pass).
+    FrictionHold hold = FrictionHold::kStuck;
+    Eigen::Vector3d sliding_impulse = Eigen::Vector3d::Zero();
+    if (!(friction > 0.0)) {
+      hold = FrictionHold::kSliding;
+    } else if (body.sliding_friction.cols() == body.model->num_nodes()) {
+      const Eigen::Vector3d last = body.sliding_friction.col(node);
+      const Eigen::Vector3d tangential = last - last.dot(best.normal) * best.normal;
+      if (tangential.norm() > 0.0) {
+        hold = FrictionHold::kSliding;
+        sliding_impulse = last.norm() * tangential.normalized();
+      }
+    }
     deepest.push_back({node, best.normal, best.velocity, best.point, best.collider,
-                       std::max(approach - closing_speed, 0.0), Friction(body, best.collider),
-                       closing_speed, closing_speed + kSpeculativeSlop * radius / h});
+                       std::max(approach - closing_speed, 0.0), friction, closing_speed,
+                       closing_speed + kSpeculativeSlop * radius / h, hold, sliding_impulse});
   }
   return deepest;
 }
@@ -234,6 +250,9 @@ std::vector<World::ContactNormal> World::DeepestColliderContacts(const Body& bod
 void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
                                   const Eigen::Matrix3Xd& residual) {
   ContactRecords records = body->Records();
+  const int n = body->model->num_nodes();
+  if (body->sliding_friction.cols() != n) body->sliding_friction.resize(3, n);
+  body->sliding_friction.setZero();
   for (const ContactNormal& contact : held) {
     const Eigen::Vector3d impulse = -residual.col(contact.node);
     const double normal = impulse.dot(contact.normal);
@@ -244,16 +263,29 @@ void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& 
     // pays for the stiffness coupling c K dv and would return elastic energy as speed.
     const double rebound = e * contact.approach;
     if (rebound > 0.0) body->pending.push_back({contact.node, rebound * contact.normal});
-    // Friction after the solve, as in the contact stage: up to mu times the normal velocity
-    // change, never reversing the sliding.
-    auto v = body->state.velocities.col(contact.node);
-    const Eigen::Vector3d relative = v - contact.velocity;
-    const Eigen::Vector3d sliding = relative - relative.dot(contact.normal) * contact.normal;
-    const Eigen::Vector3d friction =
-        CoulombFriction(sliding, contact.friction * (normal / m + rebound));
-    v += friction;
+    // The solve applied the friction of the stick or the slide (already in v); the rebound's
+    // friction, up to mu times it as in the contact stage, slows a sliding node further.
+    Eigen::Vector3d friction_impulse = impulse - normal * contact.normal;  // stuck: the hold's
+    const double limit = contact.friction * normal;
+    if (contact.friction_hold == FrictionHold::kStuck && friction_impulse.norm() > limit) {
+      // Held beyond the cone by the last solve (the passes ran out): the next kick starts it
+      // sliding.
+      body->sliding_friction.col(contact.node) = limit * friction_impulse.normalized();
+    }
+    if (contact.friction_hold == FrictionHold::kSliding) {
+      auto v = body->state.velocities.col(contact.node);
+      const Eigen::Vector3d relative = v - contact.velocity;
+      const Eigen::Vector3d sliding = relative - relative.dot(contact.normal) * contact.normal;
+      const Eigen::Vector3d rebound_friction = CoulombFriction(sliding, contact.friction * rebound);
+      v += rebound_friction;
+      friction_impulse = contact.sliding_impulse + m * rebound_friction;
+      // The next kick starts from the Coulomb limit of this solve's normal impulse.
+      if (contact.friction > 0.0) {
+        body->sliding_friction.col(contact.node) = limit * contact.sliding_impulse.normalized();
+      }
+    }
     RecordColliderImpulse(&records, contact.node, contact.collider, contact.point, contact.normal,
-                          normal + m * rebound, -m * friction);
+                          normal + m * rebound, -friction_impulse);
     ++microcollisions_;
   }
 }

@@ -156,6 +156,7 @@ World::StepStart World::SaveForRollback() {
     });
     body.saved_pending = body.pending;
     body.saved_implicit_dv = body.implicit_dv;  // empty for the explicit integrator
+    body.saved_sliding_friction = body.sliding_friction;
   }
   StepStart start;
   for (const Collider& collider : colliders_) start.collider_poses.push_back(collider.pose);
@@ -197,6 +198,7 @@ void World::RestoreRestShapes() {
     body.state = State::AtRest(*body.model);
     body.pending.clear();
     body.implicit_dv.resize(3, 0);
+    body.sliding_friction.resize(3, 0);
     PlaceGroups(&body, time_);
   }
 }
@@ -219,6 +221,7 @@ void World::RestoreStepStart(const StepStart& start) {
     body.state.velocities = body.saved_velocities;
     body.pending = body.saved_pending;
     body.implicit_dv = body.saved_implicit_dv;
+    body.sliding_friction = body.saved_sliding_friction;
     body.contact_points.clear();
   }
   for (std::size_t c = 0; c < colliders_.size(); ++c) colliders_[c].pose = start.collider_poses[c];

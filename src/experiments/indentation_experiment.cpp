@@ -24,6 +24,9 @@ void CheckOptions(const IndentationExperimentOptions& options) {
         "indentation: sphere radius, depth, speed, step and hold must be finite and > 0, "
         "damping, friction, start gap and start depth finite and >= 0");
   }
+  if (!(options.time_step_safety > 0.0 && options.time_step_safety <= 1.0)) {
+    throw std::invalid_argument("indentation: the time step safety must be in (0, 1]");
+  }
   if (options.samples < 1) throw std::invalid_argument("indentation: samples must be >= 1");
 }
 
@@ -149,6 +152,7 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   world_options.integrator = options.integrator;
   world_options.spring_precision = options.spring_precision;
   world_options.implicit_max_substep = options.step;
+  world_options.time_step_safety = options.time_step_safety;
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;

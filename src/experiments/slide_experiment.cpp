@@ -52,8 +52,8 @@ SlideExperimentResult RunSlideExperiment(std::shared_ptr<const Model> model,
     if (!report.accepted) throw std::runtime_error("slide test: " + report.reason);
     ++result.steps;
     // Past half the theoretical stopping time, so that the start is never mistaken for a stop.
-    const double speed = std::abs(CentreOfMass(world.state(body).velocities, m, 0));
-    if (world.time() > 0.5 * stop_time && speed < options.stop_fraction * v0) {
+    const double forward = CentreOfMass(world.state(body).velocities, m, 0);
+    if (world.time() > 0.5 * stop_time && forward < options.stop_fraction * v0) {
       result.stopped = true;
       break;
     }

@@ -82,6 +82,8 @@ TEST(IndentationExperiment, InvalidOptionsThrow) {
         bad([](Options* o) { o->speed = 0.0; }), bad([](Options* o) { o->step = -1e-3; }),
         bad([](Options* o) { o->damping_beta = -1e-4; }), bad([](Options* o) { o->samples = 0; }),
         bad([](Options* o) { o->start_gap = -1e-4; }),
+        bad([](Options* o) { o->time_step_safety = 0.0; }),
+        bad([](Options* o) { o->time_step_safety = 1.5; }),
         bad([](Options* o) { o->depth = 0.03; })}) {  // the block's height
     EXPECT_THROW(RunIndentationExperiment(block, options), std::invalid_argument);
   }

@@ -233,11 +233,14 @@ class World {
     std::vector<PendingResponse> saved_pending;
     Eigen::Matrix3Xd forces;
     Eigen::Matrix3Xd implicit_dv, saved_implicit_dv;  // last implicit kick: the next one's start
-    std::vector<ImpulseSum> impulses;                 // colliders, then groups (during a Step)
-    std::vector<ContactWrench> wrenches;              // colliders, then groups (of the last Step)
-    std::vector<ContactPoint> contact_points;         // of the last Step, if recorded
-    std::vector<char> near_collider;          // per border node, this substep: within reach of one
-    std::vector<ShareRecords> share_records;  // the contact stage's shares after the first
+    // Per node, the Coulomb impulse of the last implicit kick's sliding contact (0: stuck, or no
+    // contact): the next kick starts that contact sliding with it (docs/physics.md §7.1).
+    Eigen::Matrix3Xd sliding_friction, saved_sliding_friction;
+    std::vector<ImpulseSum> impulses;          // colliders, then groups (during a Step)
+    std::vector<ContactWrench> wrenches;       // colliders, then groups (of the last Step)
+    std::vector<ContactPoint> contact_points;  // of the last Step, if recorded
+    std::vector<char> near_collider;           // per border node, this substep: within reach of one
+    std::vector<ShareRecords> share_records;   // the contact stage's shares after the first
     /// The body's own contact records.
     ContactRecords Records() { return {&impulses, &pending, &contact_points}; }
   };
@@ -306,6 +309,11 @@ class World {
   /// velocity the forces (with dv) would give it, for DriveKinematicGroups to record the
   /// reaction. Returns the solver's iterations. Precondition: steps 1-2 of this substep done.
   int ImplicitKick(Body* body, double h, double t0);
+  /// How the implicit solve treats a held contact tangentially (docs/physics.md §7.1).
+  enum class FrictionHold {
+    kStuck,    ///< the whole velocity relative to the collider is held
+    kSliding,  ///< free tangentially, with the Coulomb impulse sliding_impulse on it
+  };
   /// A free border node's deepest collider contact, held along its normal in the implicit solve.
   struct ContactNormal {
     NodeIndex node;
@@ -323,6 +331,11 @@ class World {
     /// A speculative contact is held once its node approaches faster than this (m/s): its
     /// closing speed plus kSpeculativeSlop radii per substep.
     double holding_speed;
+    /// Stuck while its hold's tangential impulse stays within friction times its normal one;
+    /// sliding (always, when friction is 0) with sliding_impulse, tangential, of norm friction
+    /// times the last solve's normal impulse, against the slip.
+    FrictionHold friction_hold;
+    Eigen::Vector3d sliding_impulse;  // N s, on the node
   };
   /// The deepest collider contact of each free border node of body at its current (mid-substep)
   /// position whose collision sphere is within kSpeculativeReach radii of touching (a
@@ -331,9 +344,12 @@ class World {
   std::vector<ContactNormal> DeepestColliderContacts(const Body& body, double h) const;
   /// Solves (M + c K) dv = h F - (h^2/2) K v into body->implicit_dv with the kinematic nodes and
   /// the contacts in *held held (a held node ends approaching its collider at its closing speed:
-  /// not at all once touching); then releases the holds that pull, holds the contacts of
-  /// *speculative whose node the solution takes past the surface (moving them to *held), and
-  /// solves again while either changed anything (at most kImplicitContactPasses solves).
+  /// not at all once touching; a stuck one moves with the collider tangentially, a sliding one
+  /// takes its Coulomb impulse); then releases the holds that pull, holds the contacts of
+  /// *speculative whose node the solution takes past the surface (moving them to *held), lets
+  /// slide the stuck contacts whose hold leaves Coulomb's cone and sticks the sliding ones whose
+  /// slip turned away from their friction (UpdateFrictionHolds), and solves again while any of
+  /// that changed anything (at most kImplicitContactPasses solves).
   /// *held ends as the contacts held in the last solve, *residual as the right-hand side minus
   /// (M + c K) dv. Returns the solver's iterations. Precondition: body->forces and the stiffness
   /// linearised.
@@ -344,18 +360,31 @@ class World {
   static bool HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
                                    std::vector<ContactNormal>* speculative,
                                    std::vector<ContactNormal>* held);
-  /// With a projection: holds the held contacts' normals in it; without: sets the held part of
-  /// *dv, a normal velocity towards the collider of its closing speed.
+  /// With a projection: holds in it the held contacts' normals, and the whole node of a stuck
+  /// one; without: sets the held part of *dv, a normal velocity towards the collider of its
+  /// closing speed (and, stuck, no tangential one relative to the collider).
   static void HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNormal>& held,
                            DofProjection* projection, Eigen::Matrix3Xd* dv);
+  /// After a solve with this residual (b - A dv, the sliding impulses included in b): a stuck
+  /// contact whose hold's tangential impulse exceeds friction times its normal one slides, with
+  /// the Coulomb impulse along that tangential impulse; a sliding one whose slip (v + dv
+  /// relative to the collider) turned more than 45 degrees from against its impulse sticks; a
+  /// sliding one's impulse takes the new normal impulse. Returns whether a contact changed hold.
+  /// Precondition: no contact in held pulls (ReleasePullingContacts).
+  static bool UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
+                                  const Eigen::Matrix3Xd& residual,
+                                  std::vector<ContactNormal>* held);
   /// Removes from *held the contacts whose hold pulls the node into the collider after a solve
   /// with this residual (b - A dv); returns whether there was any.
   static bool ReleasePullingContacts(const Eigen::Matrix3Xd& residual,
                                      std::vector<ContactNormal>* held);
   /// Records each held contact's impulse (-residual . n, when it pushes) in its collider's
-  /// wrench, with friction up to mu times it (never reversing the sliding) and the restitution
-  /// of its approach before the kick pending, as RespondToColliderContact does for the contact
-  /// stage. Precondition: the held nodes' velocities are v + dv.
+  /// wrench, with the friction the solve applied (a stuck hold's tangential impulse, a sliding
+  /// one's Coulomb impulse) and the restitution of its approach before the kick pending, as
+  /// RespondToColliderContact does for the contact stage; a sliding node also takes the
+  /// rebound's friction (up to mu times it, never reversing the sliding). Keeps the sliding
+  /// impulses in body->sliding_friction for the next kick. Precondition: the held nodes'
+  /// velocities are v + dv.
   void RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
                              const Eigen::Matrix3Xd& residual);
   /// Moves every collider to its pose at the middle of the substep [step_time, step_time + h]

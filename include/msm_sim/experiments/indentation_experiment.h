@@ -33,6 +33,9 @@ struct IndentationExperimentOptions {
   double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
+  /// In (0, 1]: WorldOptions::time_step_safety, the explicit substep's fraction of the stable
+  /// step (a shorter one checks that a force has converged in the substep).
+  double time_step_safety = 0.8;
   SpringPrecision spring_precision = SpringPrecision::kSingle;  ///< WorldOptions::spring_precision
   /// Penetration recovery (docs/physics.md §7.2), m, finite, >= 0. > 0: instead of pressing, the
   /// sphere starts this far past first contact (its lowest point start_depth below the height at

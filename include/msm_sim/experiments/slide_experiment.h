@@ -18,7 +18,9 @@ struct SlideExperimentOptions {
   double step = 1e-3;          ///< s, the caller's step (subdivided into stable substeps)
   /// kImplicit: one implicit substep per step, however long (WorldOptions::integrator).
   Integrator integrator = Integrator::kExplicit;
-  /// The body has stopped when its centre of mass moves slower than this fraction of v0.
+  /// The body has stopped when its centre of mass moves forwards slower than this fraction of
+  /// v0, or backwards: a coarse body that rocks on its supports after stopping (the 12-node box
+  /// of the sliding tests) crosses zero speed between two samples.
   double stop_fraction = 1e-3;
   /// Give up after this long (s); <= 0: three times the theoretical stopping time, plus 1 s.
   double max_time = 0.0;
