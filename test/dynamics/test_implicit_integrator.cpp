@@ -397,6 +397,32 @@ TEST(ImplicitIntegrator, AbsurdForceIsRejectedAndTheStateKept) {
 }
 
 // Conjugate gradient needs a symmetric K: carrier springs with dispersion are refused, by name.
+// A rejected step leaves no trace: a block sliding down a slope (its contacts carry their
+// Coulomb impulses from kick to kick, docs/physics.md §7.1) continues after a rejected push
+// exactly as its twin that never saw the push, bit for bit.
+TEST(ImplicitIntegrator, ARejectedStepLeavesNoTraceInTheSlidingThatFollows) {
+  const auto model = Block(Eigen::Vector3d(0.04, 0.04, 0.02), 0.01, 0.3);
+  const double theta = std::atan(0.7);  // above the friction angle of mu 0.5
+  WorldOptions options = ImplicitOptions(1e-3);
+  options.gravity = 9.81 * Eigen::Vector3d(std::sin(theta), 0.0, -std::cos(theta));
+  World pushed(options), twin(options);
+  for (World* world : {&pushed, &twin}) {
+    const int body = world->AddBody("block", model);
+    world->AddCollider(GroundTouching(world->state(body).positions, world->border(body), 0.5));
+    for (int step = 0; step < 20; ++step) ASSERT_TRUE(world->Step(1e-3).accepted);
+  }
+  pushed.ApplyForce(0, Eigen::Vector3d(0.02, 0.02, 0.02), Eigen::Vector3d(1e12, 0.0, 0.0), 0.01,
+                    0.0);
+  ASSERT_FALSE(pushed.Step(1e-3).accepted);
+  for (int step = 0; step < 20; ++step) {
+    ASSERT_TRUE(pushed.Step(1e-3).accepted);
+    ASSERT_TRUE(twin.Step(1e-3).accepted);
+  }
+  EXPECT_GT(twin.state(0).velocities.row(0).mean(), 0.05);  // it slides
+  EXPECT_EQ(pushed.state(0).positions, twin.state(0).positions);
+  EXPECT_EQ(pushed.state(0).velocities, twin.state(0).velocities);
+}
+
 TEST(ImplicitIntegrator, RefusesANonSymmetricStiffness) {
   const auto carrier = Block(Eigen::Vector3d(0.02, 0.02, 0.02), 0.01, 0.45, SpringLaw::kNonlinear);
   ASSERT_GT(carrier->dispersion_fraction(), 0.0);
