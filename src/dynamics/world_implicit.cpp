@@ -156,9 +156,8 @@ int World::SolveImplicitKick(Body* body, double h, double t0, double c,
                       .iterations;
     // A hold that pulls the node into the collider is released, a stick that leaves Coulomb's
     // cone slides and a slide that turns sticks, a node that would pass its speculative
-    // contact's surface is held, and the system solved again.
-    // After the last solve the holds stay as it applied them (a stick beyond the cone then
-    // holds for that substep, as a hold that pulls does).
+    // contact's surface is held, and the system solved again. After the last solve the friction
+    // holds stay as it applied them (a stick beyond the cone holds for that substep).
     bool changed = ReleasePullingContacts(*residual, held);
     if (pass + 1 < kImplicitContactPasses) {
       changed |= UpdateFrictionHolds(v, dv, *residual, held);

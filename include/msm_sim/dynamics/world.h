@@ -369,7 +369,8 @@ class World {
   /// contact whose hold's tangential impulse exceeds friction times its normal one slides, with
   /// the Coulomb impulse along that tangential impulse; a sliding one whose slip (v + dv
   /// relative to the collider) turned more than 45 degrees from against its impulse sticks; a
-  /// sliding one's impulse takes the new normal impulse. Returns whether a contact changed hold.
+  /// sliding one's impulse takes friction times the new normal impulse when that moved it by more
+  /// than kSlidingImpulseTolerance. Returns whether any of that happened.
   /// Precondition: no contact in held pulls (ReleasePullingContacts).
   static bool UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
                                   const Eigen::Matrix3Xd& residual,
