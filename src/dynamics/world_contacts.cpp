@@ -266,11 +266,10 @@ void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& 
     // The solve applied the friction of the stick or the slide (already in v); the rebound's
     // friction, up to mu times it as in the contact stage, slows a sliding node further.
     Eigen::Vector3d friction_impulse = impulse - normal * contact.normal;  // stuck: the hold's
-    const double limit = contact.friction * normal;
-    if (contact.friction_hold == FrictionHold::kStuck && friction_impulse.norm() > limit) {
+    if (contact.friction_hold == FrictionHold::kStuck) {
       // Held beyond the cone by the last solve (the passes ran out): the next kick starts it
       // sliding.
-      body->sliding_friction.col(contact.node) = limit * friction_impulse.normalized();
+      body->sliding_friction.col(contact.node) = SlidingImpulseOfStick(contact, impulse);
     }
     if (contact.friction_hold == FrictionHold::kSliding) {
       auto v = body->state.velocities.col(contact.node);
@@ -281,7 +280,8 @@ void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& 
       friction_impulse = contact.sliding_impulse + m * rebound_friction;
       // The next kick starts from the Coulomb limit of this solve's normal impulse.
       if (contact.friction > 0.0) {
-        body->sliding_friction.col(contact.node) = limit * contact.sliding_impulse.normalized();
+        body->sliding_friction.col(contact.node) =
+            contact.friction * normal * contact.sliding_impulse.normalized();
       }
     }
     RecordColliderImpulse(&records, contact.node, contact.collider, contact.point, contact.normal,

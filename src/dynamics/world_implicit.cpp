@@ -180,17 +180,16 @@ bool World::UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3X
   for (ContactNormal& contact : *held) {
     if (!(contact.friction > 0.0)) continue;  // frictionless: slides with no impulse
     const Eigen::Vector3d impulse = -residual.col(contact.node);
-    const double normal = impulse.dot(contact.normal);
     if (contact.friction_hold == FrictionHold::kStuck) {
-      const Eigen::Vector3d tangential = impulse - normal * contact.normal;
-      const double limit = contact.friction * normal;
-      if (tangential.norm() > limit) {
+      const Eigen::Vector3d sliding = SlidingImpulseOfStick(contact, impulse);
+      if (!sliding.isZero(0.0)) {
         contact.friction_hold = FrictionHold::kSliding;
-        contact.sliding_impulse = limit * tangential.normalized();
+        contact.sliding_impulse = sliding;
         changed = true;
       }
       continue;
     }
+    const double normal = impulse.dot(contact.normal);
     const Eigen::Vector3d relative = v.col(contact.node) + dv.col(contact.node) - contact.velocity;
     const Eigen::Vector3d slip = relative - relative.dot(contact.normal) * contact.normal;
     const double against = -slip.dot(contact.sliding_impulse);
@@ -209,6 +208,15 @@ bool World::UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3X
     }
   }
   return changed;
+}
+
+Eigen::Vector3d World::SlidingImpulseOfStick(const ContactNormal& contact,
+                                             const Eigen::Vector3d& impulse) {
+  const double normal = impulse.dot(contact.normal);
+  const Eigen::Vector3d tangential = impulse - normal * contact.normal;
+  const double limit = contact.friction * normal;
+  if (!(tangential.norm() > limit)) return Eigen::Vector3d::Zero();
+  return limit * tangential.normalized();
 }
 
 bool World::HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,

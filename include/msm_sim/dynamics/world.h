@@ -375,6 +375,11 @@ class World {
   static bool UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
                                   const Eigen::Matrix3Xd& residual,
                                   std::vector<ContactNormal>* held);
+  /// For a stuck contact whose hold applied `impulse` (N s, on the node): the Coulomb impulse it
+  /// slides with when the tangential part leaves the cone (friction times the normal part, along
+  /// the tangential part); zero while it stays within.
+  static Eigen::Vector3d SlidingImpulseOfStick(const ContactNormal& contact,
+                                               const Eigen::Vector3d& impulse);
   /// Removes from *held the contacts whose hold pulls the node into the collider after a solve
   /// with this residual (b - A dv); returns whether there was any.
   static bool ReleasePullingContacts(const Eigen::Matrix3Xd& residual,
