@@ -425,8 +425,10 @@ class World {
   /// share taking the border nodes among its nodes and recording into its own ContactRecords,
   /// added to the body's in share order: with one share the body's records directly.
   void CollideWithColliders(Body* body, int* microcollisions);
-  /// Border nodes [k_begin, k_end) of CollideWithColliders.
-  void CollideBorderNodes(const std::vector<ColliderFrame>& frames, Body* body, std::size_t k_begin,
+  /// Border nodes [k_begin, k_end) of CollideWithColliders; `frictions`: Friction(*body, c) per
+  /// collider c.
+  void CollideBorderNodes(const std::vector<ColliderFrame>& frames,
+                          const std::vector<double>& frictions, Body* body, std::size_t k_begin,
                           std::size_t k_end, ContactRecords* records) const;
   /// Each collider's inverse pose and bounds (computed once per body and substep).
   std::vector<ColliderFrame> FrameColliders() const;
@@ -441,11 +443,10 @@ class World {
                               double radius, std::vector<NodeContact>* contacts) const;
   /// Up to contact_iterations Gauss-Seidel sweeps taking each contact's approach out of *v.
   void StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Vector3d* v) const;
-  /// Friction into *v (none if `frictionless`: a node being recovered from a deep overlap), the
-  /// rebound pending, the impulse recorded. Precondition: stopped > 0.
+  /// Friction with coefficient `friction` into *v (0 for none: a node being recovered from a
+  /// deep overlap), the rebound pending, the impulse recorded. Precondition: stopped > 0.
   void RespondToColliderContact(const Body& body, NodeIndex node, const NodeContact& contact,
-                                bool frictionless, Eigen::Vector3d* v,
-                                ContactRecords* records) const;
+                                double friction, Eigen::Vector3d* v, ContactRecords* records) const;
   /// The impulse a node gave a collider in this substep (normal_impulse N s along -normal,
   /// tangential N s along the surface) into the collider's sum and, if recording, the contact
   /// points.
