@@ -140,10 +140,13 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
   for (const int count : counts) *microcollisions += count;
 }
 
-void World::CollideBorderNodes(const std::vector<ColliderFrame>& frames,
-                               const std::vector<double>& frictions, Body* body,
-                               std::size_t k_begin, std::size_t k_end,
-                               ContactRecords* records) const {
+// Flattened: the per-contact helpers it calls, inlined, took the realtime block's step 2.7 %
+// faster (one thread; GCC would not inline them on its own).
+__attribute__((flatten)) void World::CollideBorderNodes(const std::vector<ColliderFrame>& frames,
+                                                        const std::vector<double>& frictions,
+                                                        Body* body, std::size_t k_begin,
+                                                        std::size_t k_end,
+                                                        ContactRecords* records) const {
   FlagNodesNearColliders(frames, body, k_begin, k_end);
   std::vector<NodeContact> contacts;
   for (std::size_t k = k_begin; k < k_end; ++k) {
