@@ -162,8 +162,8 @@ World::StepStart World::SaveForRollback() {
     body.saved_positions.resize(3, body.state.positions.cols());
     body.saved_velocities.resize(3, body.state.velocities.cols());
     // The explicit integrator's first drift copies the nodes as it reads them, on each node
-    // share's thread (DriftForceAndKick); nothing before it changes them.
-    body.save_in_first_drift = explicit_drift;
+    // share's thread (DriftForceAndKick); nothing before it changes them. (A step taken again
+    // with finer substeps copies them again from the restored start, the same values.)
     // Each node share copies its own nodes on its own thread, as the stages that follow use
     // them (docs/physics.md §9): copied on the caller's thread, the other share's nodes left its
     // cache shared, and its first drift waited for them (a two-thread 12k-node step took 11 %
@@ -348,18 +348,16 @@ void World::NoteFastest(Body* body) {
 }
 
 void World::DriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>& poses, int begin,
-                      int end) {
-  Drift(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
-        body->state.positions.data() + 3L * begin);
-  PlaceGroupNodes(body, poses, begin, end);
-}
-
-void World::SaveAndDriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>& poses,
-                             int begin, int end) {
-  SaveAndDrift(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
-               body->state.positions.data() + 3L * begin,
-               body->saved_velocities.data() + 3L * begin,
-               body->saved_positions.data() + 3L * begin);
+                      int end, bool save) {
+  const long count = 3L * (end - begin);
+  const double* v = body->state.velocities.data() + 3L * begin;
+  double* x = body->state.positions.data() + 3L * begin;
+  if (save) {
+    SaveAndDrift(count, 0.5 * h, v, x, body->saved_velocities.data() + 3L * begin,
+                 body->saved_positions.data() + 3L * begin);
+  } else {
+    Drift(count, 0.5 * h, v, x);
+  }
   PlaceGroupNodes(body, poses, begin, end);
 }
 
@@ -406,14 +404,10 @@ void World::DriftForceAndKick(Body* body, double h, double t0) {
   // The frames' poses here, on the caller's thread: a pose function need not be thread-safe.
   const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
   ForceEvaluator::NodeStages stages;
-  const bool save = body->save_in_first_drift;
+  const bool save = substep_index_ == 0;  // SaveForRollback's copy of the nodes
   stages.before = [body, h, &poses, save](int begin, int end) {
-    if (save) {
-      SaveAndDriftHalf(body, h, poses, begin, end);  // 1, and SaveForRollback's copy
-    } else {
-      DriftHalf(body, h, poses, begin, end);  // 1
-    }
-    ApplyPendingRestitution(body, begin, end);  // 2
+    DriftHalf(body, h, poses, begin, end, save);  // 1
+    ApplyPendingRestitution(body, begin, end);    // 2
   };
   stages.after = [this, body, h](int begin, int end) {
     AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
@@ -422,7 +416,6 @@ void World::DriftForceAndKick(Body* body, double h, double t0) {
   body->evaluator.SetForces(body->state.positions, body->state.velocities,
                             body->options.damping_beta, &body->forces, stages);
   body->pending.clear();
-  body->save_in_first_drift = false;
 }
 
 void World::DriveKinematicGroups(Body* body, double h, double t0) const {

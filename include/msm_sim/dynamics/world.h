@@ -230,9 +230,6 @@ class World {
     double fastest_speed_sq = 0.0;
     int fastest_node = 0;
     Eigen::Matrix3Xd saved_positions, saved_velocities;  // to restore a rejected Step
-    // Set by SaveForRollback for the explicit integrator: the step's first drift copies the
-    // nodes into saved_positions and saved_velocities as it reads them.
-    bool save_in_first_drift = false;
     std::vector<PendingResponse> saved_pending;
     Eigen::Matrix3Xd forces;
     Eigen::Matrix3Xd implicit_dv, saved_implicit_dv;  // last implicit kick: the next one's start
@@ -260,7 +257,7 @@ class World {
 
   // Step's stages (world_step.cpp).
   /// Copies every body's state and pending responses into its buffers (the explicit integrator's
-  /// node states in the first drift, DriftForceAndKick); returns the rest.
+  /// node states in each step's first drift, DriftForceAndKick); returns the rest.
   StepStart SaveForRollback();
   /// Zeroes what a Step accumulates: impulses, microcollisions, each body's fastest node.
   void ClearStepRecords();
@@ -288,13 +285,10 @@ class World {
   // Substep: the seven stages of the class comment; a substep of h (s) from t0 = time_ + step_time.
   void Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time);
   /// 1. x += h/2 v for nodes [begin, end); their kinematic nodes go where `poses` (GroupPoses
-  /// at t0 + h/2) put them.
+  /// at t0 + h/2) put them. `save`: first copies the nodes' positions and velocities into the
+  /// saved ones, for a rejected step (the explicit integrator's first drift of a step).
   static void DriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>& poses,
-                        int begin, int end);
-  /// The same, first copying the nodes' positions and velocities into the saved ones (the
-  /// step's first drift, Body::save_in_first_drift).
-  static void SaveAndDriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>& poses,
-                               int begin, int end);
+                        int begin, int end, bool save = false);
   /// 2. v += the restitution left over from the last substep's contacts (then none pending).
   static void ApplyPendingRestitution(Body* body);
   /// The same for the nodes [begin, end), leaving the list as it is.
