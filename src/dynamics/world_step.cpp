@@ -89,6 +89,27 @@ void KickNodes(int n, double h, const double* forces, const double* inverse_mass
   }
 }
 
+// KickNodes for nodes [begin, end) with the forces as the single-precision loops leave them
+// (ForceEvaluator::NodeStages::after_unstored): node i's force is the double sum of its a- and
+// b-end floats, which StoreSingleEndForces would have stored for KickNodes to read back. The
+// same arithmetic, without that round trip through memory.
+MSM_SIM_SIMD_CLONES
+void KickNodesFromEndForces(long n, long begin, long end, double h, const float* end_forces,
+                            const double* inverse_masses, const double g[3], double* velocities) {
+  const float* __restrict a = end_forces;
+  const float* __restrict b = end_forces + 3 * n;
+  const double* __restrict inverse_mass = inverse_masses;
+  double* __restrict v = velocities;
+  const double hg[3] = {h * g[0], h * g[1], h * g[2]};
+  for (long i = begin; i < end; ++i) {
+    const double scale = h * inverse_mass[i];
+    for (long d = 0; d < 3; ++d) {
+      const double f = static_cast<double>(a[d * n + i]) + static_cast<double>(b[d * n + i]);
+      v[3 * i + d] += scale * f + hg[d];
+    }
+  }
+}
+
 // Equal substeps of dt no longer than the stable step (one if no body limits it).
 int NumSubsteps(double dt, double stable) {
   const int substeps = std::isfinite(stable) ? static_cast<int>(std::ceil(dt / stable - 1e-9)) : 1;
@@ -413,6 +434,15 @@ void World::DriftForceAndKick(Body* body, double h, double t0) {
     AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
     Kick(body, h, begin, end);    // 4
   };
+  if (body->pushes.empty()) {
+    // Without pushes the kick takes the springs' forces as the float loops leave them (body->
+    // forces is not written): the same sums, one pass over the nodes instead of two.
+    stages.after_unstored = [this, body, h](int begin, int end, const float* end_forces, long n) {
+      const double g[3] = {options_.gravity.x(), options_.gravity.y(), options_.gravity.z()};
+      KickNodesFromEndForces(n, begin, end, h, end_forces, body->inverse_masses.data(), g,
+                             body->state.velocities.data());  // 3-4
+    };
+  }
   body->evaluator.SetForces(body->state.positions, body->state.velocities,
                             body->options.damping_beta, &body->forces, stages);
   body->pending.clear();

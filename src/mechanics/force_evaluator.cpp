@@ -551,6 +551,10 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       GatherOverflows(overflow(0, d), 4 * length, length, shares, t, f + (3 + d) * n);
     }
     const SingleShare& share = shares[t];
+    if (stages_ != nullptr && stages_->after_unstored && !barrier_) {
+      stages_->after_unstored(share.begin, share.end, f, n);
+      return;
+    }
     if (overwrite_forces_) {
       StoreSingleEndForces(f, n, share.begin, share.end, forces->data());
     } else {

@@ -212,7 +212,8 @@ TEST(OrientationBarrier, AddedByEveryForceLoop) {
                                           // The barrier is in the forces the stage sees.
                                           EXPECT_GT(with.middleCols(begin, end - begin).norm(),
                                                     0.0);
-                                        }};
+                                        },
+                                        {}};
       guarded.SetForces(x, v, 1e-3, &with, stages);
       EXPECT_EQ(staged.load(), model.num_nodes());
       const double scale = without.norm();

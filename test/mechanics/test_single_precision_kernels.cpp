@@ -1,6 +1,7 @@
 // The single-precision spring loops (SpringPrecision::kSingle) against the double per-spring
 // loops, which the rest of the suite checks against theory.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -267,6 +268,43 @@ TEST(SinglePrecisionEvaluator, SetForcesEqualsAddingOntoZero) {
             << static_cast<int>(precision) << " " << static_cast<int>(passes) << " " << evaluation;
       }
     }
+  }
+}
+
+// NodeStages::after_unstored gets the forces SetForces would have stored, to the bit, for every
+// node once (on one and two threads); `after` is not called and *forces is left as it was.
+TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
+  const Model model = Block(0.45, 0.0035);
+  ASSERT_GE(model.num_nodes(), 1'000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 10);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 11);
+  for (const int threads : {1, 2}) {
+    ForceEvaluator stored(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator unstored(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    stored.set_precision(SpringPrecision::kSingle);
+    unstored.set_precision(SpringPrecision::kSingle);
+    Eigen::Matrix3Xd expected;
+    stored.SetForces(x, v, 1e-3, &expected);
+    Eigen::Matrix3Xd summed = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
+    Eigen::Matrix3Xd untouched = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
+    std::atomic<int> afters{0}, sums{0};
+    ForceEvaluator::NodeStages stages;
+    stages.before = [](int, int) {};
+    stages.after = [&](int, int) { ++afters; };
+    stages.after_unstored = [&](int begin, int end, const float* f, long n) {
+      for (int i = begin; i < end; ++i) {
+        for (int d = 0; d < 3; ++d) {
+          summed(d, i) =
+              static_cast<double>(f[d * n + i]) + static_cast<double>(f[(3 + d) * n + i]);
+        }
+      }
+      sums += end - begin;
+    };
+    unstored.SetForces(x, v, 1e-3, &untouched, stages);
+    EXPECT_EQ(sums.load(), model.num_nodes()) << threads;
+    EXPECT_EQ(afters.load(), 0) << threads;
+    EXPECT_EQ(summed, expected) << threads;
+    EXPECT_TRUE((untouched.array() == 7.0).all()) << threads;
   }
 }
 
