@@ -186,22 +186,27 @@ void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Bod
   for (std::size_t c = 0; c < colliders_.size(); ++c) {
     if (!colliders_[c].enabled) continue;
     const ColliderFrame& frame = frames[c];
+    // The frame's values in locals: read through the frame in the loop, GCC loaded them again
+    // for every node (a char store may alias anything).
     if (!frame.bounded) {
-      const Eigen::Vector3d& n = frame.plane_normal;
+      const double nx = frame.plane_normal.x(), ny = frame.plane_normal.y();
+      const double nz = frame.plane_normal.z(), offset = frame.plane_offset;
       for (std::size_t k = k_begin; k < k_end; ++k) {
         const double* p = x + 3 * static_cast<std::ptrdiff_t>(nodes[k]);
-        const double distance = n.x() * p[0] + n.y() * p[1] + n.z() * p[2] - frame.plane_offset;
+        const double distance = nx * p[0] + ny * p[1] + nz * p[2] - offset;
         near[k] |= static_cast<char>(distance < kPatchReach * radii[k]);
       }
       continue;
     }
-    const Eigen::Vector3d lo = frame.world_box.min(), hi = frame.world_box.max();
+    const double lo_x = frame.world_box.min().x(), lo_y = frame.world_box.min().y();
+    const double lo_z = frame.world_box.min().z(), hi_x = frame.world_box.max().x();
+    const double hi_y = frame.world_box.max().y(), hi_z = frame.world_box.max().z();
     for (std::size_t k = k_begin; k < k_end; ++k) {
       const double* p = x + 3 * static_cast<std::ptrdiff_t>(nodes[k]);
       const double reach = kPatchReach * radii[k];
-      near[k] |= static_cast<char>(p[0] >= lo.x() - reach && p[0] <= hi.x() + reach &&
-                                   p[1] >= lo.y() - reach && p[1] <= hi.y() + reach &&
-                                   p[2] >= lo.z() - reach && p[2] <= hi.z() + reach);
+      near[k] |=
+          static_cast<char>(p[0] >= lo_x - reach && p[0] <= hi_x + reach && p[1] >= lo_y - reach &&
+                            p[1] <= hi_y + reach && p[2] >= lo_z - reach && p[2] <= hi_z + reach);
     }
   }
 }
