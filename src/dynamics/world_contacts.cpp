@@ -7,6 +7,8 @@
 #include <cmath>
 #include <vector>
 
+#include "dynamics/world_contact_stage.h"
+
 namespace msm_sim::core {
 namespace {
 
@@ -59,37 +61,6 @@ Eigen::Vector3d CoulombFriction(const Eigen::Vector3d& sliding, double limit) {
 
 }  // namespace
 
-// A collider's frame for detection, computed once per body and substep.
-struct World::ColliderFrame {
-  bool bounded;            // planes are unbounded
-  Eigen::Vector3d lo, hi;  // bounds in the collider's frame
-  // The bounds' box in the world frame: most border nodes are far from a bounded collider, and
-  // this test skips their transform into its frame (8.7 % of a 4,000-node step went to detection).
-  Eigen::AlignedBox3d world_box;
-  // A plane's normal and offset in the world frame (distance = normal . x - offset): the same
-  // shortcut for the nodes high above the ground.
-  Eigen::Vector3d plane_normal;
-  double plane_offset;
-  Eigen::Isometry3d inverse;
-  // Whether the collider has a twist: a still one's material is at rest, and skipping
-  // VelocityAt's cross product (through the stack) took a sixth of a resting block's detection.
-  bool moving;
-
-  Eigen::Vector3d VelocityAt(const Collider& collider, const Eigen::Vector3d& point) const {
-    return moving ? collider.VelocityAt(point) : Eigen::Vector3d::Zero();
-  }
-};
-
-// A contact of one node with one collider during the detection of a substep.
-struct World::NodeContact {
-  int collider;
-  Eigen::Vector3d normal;    // unit, out of the collider
-  Eigen::Vector3d point;     // on the collider's surface
-  Eigen::Vector3d velocity;  // of the collider's material there
-  double distance;           // signed, of the node from the surface (m)
-  double stopped = 0.0;      // normal velocity change that stopped the approach (>= 0)
-};
-
 double World::Friction(const Body& body, int collider) const {
   const double pair = body.pair_friction[collider];
   return pair >= 0.0 ? pair : std::sqrt(body.options.friction * colliders_[collider].friction);
@@ -97,13 +68,7 @@ double World::Friction(const Body& body, int collider) const {
 
 void World::CollideWithColliders(Body* body, int* microcollisions) {
   if (colliders_.empty()) return;
-  const std::vector<ColliderFrame> frames = FrameColliders();
-  // Once per substep, not a square root per contact (the realtime block's one-thread step 1 %
-  // faster).
-  std::vector<double> frictions(colliders_.size());
-  for (std::size_t c = 0; c < colliders_.size(); ++c)
-    frictions[c] = Friction(*body, static_cast<int>(c));
-  body->near_collider.resize(body->border.nodes.size());
+  ContactStage stage = BeginContactStage(body);
   // Each node share takes the border nodes among its nodes (border nodes are in node order), on
   // its own thread, where the share's positions and velocities are in cache: the first share
   // records into the body's records, the others into their own, added after in share order,
@@ -111,33 +76,53 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
   // border nodes into ranges of equal numbers of nodes near a collider instead, to share a
   // block's ground contacts, all in the first share, measured no faster on two threads: the
   // nodes' cache lines then went to the other core and back.)
+  body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+    CollideShare(&stage, body, share, begin, end, &body->pending);
+  });
+  EndContactStage(stage, body, microcollisions);
+}
+
+World::ContactStage World::BeginContactStage(Body* body) const {
+  ContactStage stage;
+  stage.frames = FrameColliders();
+  stage.frictions.resize(colliders_.size());
+  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+    stage.frictions[c] = Friction(*body, static_cast<int>(c));
+  }
+  body->near_collider.resize(body->border.nodes.size());
   const int shares = body->evaluator.NumNodeShares();
   body->share_records.resize(shares - 1);
-  std::vector<int> counts(shares, 0);
+  stage.counts.assign(shares, 0);
+  return stage;
+}
+
+void World::CollideShare(ContactStage* stage, Body* body, int share, int begin, int end,
+                         std::vector<PendingResponse>* first_pending) const {
   const std::vector<NodeIndex>& border = body->border.nodes;
-  body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
-    const auto k_begin = static_cast<std::size_t>(
-        std::lower_bound(border.begin(), border.end(), begin) - border.begin());
-    const auto k_end = static_cast<std::size_t>(
-        std::lower_bound(border.begin(), border.end(), end) - border.begin());
-    ContactRecords records = body->Records();
-    if (share > 0) {
-      ShareRecords& own = body->share_records[share - 1];
-      own.impulses.assign(body->impulses.size(), ImpulseSum{});
-      own.pending.clear();
-      own.points.clear();
-      records = {&own.impulses, &own.pending, &own.points};
-    }
-    CollideBorderNodes(frames, frictions, body, k_begin, k_end, &records);
-    counts[share] = records.microcollisions;
-  });
-  for (int share = 1; share < shares; ++share) {
+  const auto k_begin = static_cast<std::size_t>(
+      std::lower_bound(border.begin(), border.end(), begin) - border.begin());
+  const auto k_end = static_cast<std::size_t>(std::lower_bound(border.begin(), border.end(), end) -
+                                              border.begin());
+  ContactRecords records{&body->impulses, first_pending, &body->contact_points};
+  if (share > 0) {
+    ShareRecords& own = body->share_records[share - 1];
+    own.impulses.assign(body->impulses.size(), ImpulseSum{});
+    own.pending.clear();
+    own.points.clear();
+    records = {&own.impulses, &own.pending, &own.points};
+  }
+  CollideBorderNodes(stage->frames, stage->frictions, body, k_begin, k_end, &records);
+  stage->counts[share] = records.microcollisions;
+}
+
+void World::EndContactStage(const ContactStage& stage, Body* body, int* microcollisions) {
+  for (std::size_t share = 1; share < stage.counts.size(); ++share) {
     const ShareRecords& own = body->share_records[share - 1];
     for (std::size_t w = 0; w < own.impulses.size(); ++w) body->impulses[w].Merge(own.impulses[w]);
     body->pending.insert(body->pending.end(), own.pending.begin(), own.pending.end());
     body->contact_points.insert(body->contact_points.end(), own.points.begin(), own.points.end());
   }
-  for (const int count : counts) *microcollisions += count;
+  for (const int count : stage.counts) *microcollisions += count;
 }
 
 // Flattened: the per-contact helpers it calls, inlined, took the realtime block's one-thread

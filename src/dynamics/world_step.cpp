@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "dynamics/world_contact_stage.h"
 #include "dynamics/world_internal.h"
 #include "mechanics/simd_clones.h"
 
@@ -339,6 +340,10 @@ void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
   const double t0 = time_ + step_time;  // time_ stays at the step's start until it ends
   // The implicit kick holds the contacts it detects at mid-substep, as the contact stage does.
   const bool implicit = options_.integrator == Integrator::kImplicit;
+  if (SubstepsInOnePass()) {
+    SubstepInOnePass(&bodies_.front(), h, start_poses, step_time);  // 1-7
+    return;
+  }
   if (implicit) PlaceCollidersAtMidSubstep(h, start_poses, step_time);
   for (Body& body : bodies_) {
     if (implicit) {
@@ -352,6 +357,32 @@ void World::Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses,
   }
   ResolveContacts(h, start_poses, step_time);                       // 5-6
   for (Body& body : bodies_) DriftHalfNotingFastest(&body, h, t0);  // 7
+}
+
+bool World::SubstepsInOnePass() const {
+  if (options_.integrator != Integrator::kExplicit || bodies_.size() != 1) return false;
+  const Body& body = bodies_.front();
+  return body.groups.empty() && !body.options.self_collision;
+}
+
+void World::SubstepInOnePass(Body* body, double h,
+                             const std::vector<Eigen::Isometry3d>& start_poses, double step_time) {
+  const double t0 = time_ + step_time;
+  PlaceCollidersAtMidSubstep(h, start_poses, step_time);  // 5's poses
+  const bool contacts = !colliders_.empty();
+  ContactStage stage;
+  if (contacts) stage = BeginContactStage(body);
+  std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
+  // The first share's rebounds wait in next_pending while the shares still apply `pending`.
+  body->next_pending.clear();
+  const std::function<void(int, int, int)> finish = [&](int share, int begin, int end) {
+    if (contacts) CollideShare(&stage, body, share, begin, end, &body->next_pending);  // 5-6
+    DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);        // 7
+  };
+  DriftForceAndKick(body, h, t0, &finish);  // 1-4, then `finish`; `pending` is now cleared
+  body->pending.swap(body->next_pending);
+  if (contacts) EndContactStage(stage, body, &microcollisions_);
+  NoteDriftExtremes(body, fastest, nonfinite, t0 + h);
 }
 
 void World::NoteFastest(Body* body) {
@@ -413,12 +444,12 @@ void World::AddPushes(Body* body, int begin, int end) {
 void World::Kick(Body* body, double h, int begin, int end) const {
   // Gravity comes in the same pass over the nodes: this loop and the drifts are a third of a
   // 12k-node step besides the force evaluation.
-  const double g[3] = {options_.gravity.x(), options_.gravity.y(), options_.gravity.z()};
   KickNodes(end - begin, h, body->forces.data() + 3L * begin, body->inverse_masses.data() + begin,
-            g, body->state.velocities.data() + 3L * begin);
+            options_.gravity.data(), body->state.velocities.data() + 3L * begin);
 }
 
-void World::DriftForceAndKick(Body* body, double h, double t0) {
+void World::DriftForceAndKick(Body* body, double h, double t0,
+                              const std::function<void(int, int, int)>* finish) {
   // Each node share of the force loops drifts, kicks and places its own nodes on its own thread
   // (ForceEvaluator::NodeStages): they stay in that core's cache, and with two threads the
   // per-node stages no longer wait on one core (docs/physics.md §9).
@@ -426,21 +457,23 @@ void World::DriftForceAndKick(Body* body, double h, double t0) {
   const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
   ForceEvaluator::NodeStages stages;
   const bool save = substep_index_ == 0;  // SaveForRollback's copy of the nodes
-  stages.before = [body, h, &poses, save](int begin, int end) {
+  stages.before = [body, h, &poses, save](int, int begin, int end) {
     DriftHalf(body, h, poses, begin, end, save);  // 1
     ApplyPendingRestitution(body, begin, end);    // 2
   };
-  stages.after = [this, body, h](int begin, int end) {
+  stages.after = [this, body, h, finish](int share, int begin, int end) {
     AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
     Kick(body, h, begin, end);    // 4
+    if (finish != nullptr) (*finish)(share, begin, end);
   };
   if (body->pushes.empty()) {
     // Without pushes the kick takes the springs' forces as the float loops leave them (body->
     // forces is not written): the same sums, one pass over the nodes instead of two.
-    stages.after_unstored = [this, body, h](int begin, int end, const float* end_forces, long n) {
-      const double g[3] = {options_.gravity.x(), options_.gravity.y(), options_.gravity.z()};
-      KickNodesFromEndForces(n, begin, end, h, end_forces, body->inverse_masses.data(), g,
-                             body->state.velocities.data());  // 3-4
+    stages.after_unstored = [this, body, h, finish](int share, int begin, int end,
+                                                    const float* end_forces, long n) {
+      KickNodesFromEndForces(n, begin, end, h, end_forces, body->inverse_masses.data(),
+                             options_.gravity.data(), body->state.velocities.data());  // 3-4
+      if (finish != nullptr) (*finish)(share, begin, end);
     };
   }
   body->evaluator.SetForces(body->state.positions, body->state.velocities,
@@ -490,20 +523,30 @@ void World::DriftHalfNotingFastest(Body* body, double h, double t0) const {
   // non-finite value. One flat loop of reductions vectorises (tracking the fastest node in it
   // cost 4 % of a 4,000-node step); the rare flagged substep finds the node in a second pass.
   // Each node share on its own thread, as in DriftForceAndKick.
-  const double component_limit = options_.max_speed / std::sqrt(3.0);
   std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
   body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
-    DriftNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
-                        body->state.positions.data() + 3L * begin, &fastest[share],
-                        &nonfinite[share]);
+    DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);
   });
+  NoteDriftExtremes(body, fastest, nonfinite, t0 + h);
+}
+
+void World::DriftShareNotingExtremes(Body* body, double h, int share, int begin, int end,
+                                     std::vector<double>* fastest, std::vector<double>* nonfinite) {
+  DriftNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
+                      body->state.positions.data() + 3L * begin, &(*fastest)[share],
+                      &(*nonfinite)[share]);
+}
+
+void World::NoteDriftExtremes(Body* body, const std::vector<double>& fastest,
+                              const std::vector<double>& nonfinite, double t) const {
+  const double component_limit = options_.max_speed / std::sqrt(3.0);
   for (std::size_t share = 0; share < fastest.size(); ++share) {
     if (!(fastest[share] <= component_limit) || nonfinite[share] != 0.0) {
       NoteFastest(body);
       break;
     }
   }
-  PlaceGroups(body, t0 + h);
+  PlaceGroups(body, t);
 }
 
 }  // namespace msm_sim::core

@@ -341,9 +341,9 @@ void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
                                const Eigen::Matrix3Xd& velocities, double damping_beta,
                                Eigen::Matrix3Xd* forces, const NodeStages& stages) {
   if (!UsesSingleLoops()) {
-    stages.before(0, model_->num_nodes());
+    stages.before(0, 0, model_->num_nodes());
     SetForces(positions, velocities, damping_beta, forces);
-    stages.after(0, model_->num_nodes());
+    stages.after(0, 0, model_->num_nodes());
     return;
   }
   stages_ = &stages;
@@ -519,7 +519,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const auto beta = static_cast<float>(damping.beta);
   RunShares(count, [&](int t) {
     const SingleShare& share = shares[t];
-    if (stages_ != nullptr) stages_->before(share.begin, share.end);
+    if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
     ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
     if (damping.velocities != nullptr) {
       const double zero[3] = {0.0, 0.0, 0.0};
@@ -552,7 +552,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     }
     const SingleShare& share = shares[t];
     if (stages_ != nullptr && stages_->after_unstored && !barrier_) {
-      stages_->after_unstored(share.begin, share.end, f, n);
+      stages_->after_unstored(t, share.begin, share.end, f, n);
       return;
     }
     if (overwrite_forces_) {
@@ -564,7 +564,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       forces->middleCols(share.begin, share.end - share.begin) +=
           barrier_forces_.middleCols(share.begin, share.end - share.begin);
     }
-    if (stages_ != nullptr) stages_->after(share.begin, share.end);
+    if (stages_ != nullptr) stages_->after(t, share.begin, share.end);
   };
   const auto overflow_forces = [&](int t) {
     return MutableSingleNodeArrays{overflow(t, 0), overflow(t, 1), overflow(t, 2)};

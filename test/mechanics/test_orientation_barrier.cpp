@@ -206,8 +206,8 @@ TEST(OrientationBarrier, AddedByEveryForceLoop) {
       Eigen::Matrix3Xd without, with;
       plain.SetForces(x, v, 1e-3, &without);
       std::atomic<int> staged{0};  // the stages run on the shares' threads
-      ForceEvaluator::NodeStages stages{[](int, int) {},
-                                        [&](int begin, int end) {
+      ForceEvaluator::NodeStages stages{[](int, int, int) {},
+                                        [&](int, int begin, int end) {
                                           staged += end - begin;
                                           // The barrier is in the forces the stage sees.
                                           EXPECT_GT(with.middleCols(begin, end - begin).norm(),

@@ -289,9 +289,9 @@ TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
     Eigen::Matrix3Xd untouched = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
     std::atomic<int> afters{0}, sums{0};
     ForceEvaluator::NodeStages stages;
-    stages.before = [](int, int) {};
-    stages.after = [&](int, int) { ++afters; };
-    stages.after_unstored = [&](int begin, int end, const float* f, long n) {
+    stages.before = [](int, int, int) {};
+    stages.after = [&](int, int, int) { ++afters; };
+    stages.after_unstored = [&](int, int begin, int end, const float* f, long n) {
       for (int i = begin; i < end; ++i) {
         for (int d = 0; d < 3; ++d) {
           summed(d, i) =

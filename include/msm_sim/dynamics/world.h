@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -221,6 +222,9 @@ class World {
     std::vector<char> constrained;  // per node
     std::vector<Push> pushes;
     std::vector<PendingResponse> pending;
+    // The rebounds the first node share's contacts leave while `pending` is still being applied
+    // (SubstepInOnePass), moved into it once it has been.
+    std::vector<PendingResponse> next_pending;
     std::vector<double> pair_friction;           // per collider; < 0: default
     double stable_step = 0.0;                    // without the constrained nodes (UpdateStableStep)
     double self_contact_rest_distance_sq = 0.0;  // m^2
@@ -251,8 +255,10 @@ class World {
     double time = 0.0;
   };
   // One substep's contact records (defined in world_contacts.cpp).
+  // (ColliderFrame, NodeContact and ContactStage: dynamics/world_contact_stage.h.)
   struct ColliderFrame;  // a collider's inverse pose and bounds, for detection
   struct NodeContact;    // a node touching a collider
+  struct ContactStage;   // what a body's contact stage shares between its node shares
   struct PairContact;    // two nodes touching
 
   // Step's stages (world_step.cpp).
@@ -284,6 +290,18 @@ class World {
 
   // Substep: the seven stages of the class comment; a substep of h (s) from t0 = time_ + step_time.
   void Substep(double h, const std::vector<Eigen::Isometry3d>& start_poses, double step_time);
+  /// Whether a substep may run stages 5-7 inside the force loops' node shares
+  /// (SubstepInOnePass): one body in an explicit world, without kinematic groups or
+  /// self-collision, so that nothing between its kick and its last drift needs the whole body
+  /// (driving a group's nodes, contacts between nodes).
+  bool SubstepsInOnePass() const;
+  /// Substep for that body: the colliders at mid-substep first (stages 1-4 do not read them),
+  /// then each node share drifts, kicks, collides its border nodes and drifts again on its own
+  /// thread, with one hand-over between threads fewer than stage by stage, and two fewer
+  /// hand-overs per substep. The same arithmetic in the same order per node, and the same records
+  /// in the same order, as Substep stage by stage.
+  void SubstepInOnePass(Body* body, double h, const std::vector<Eigen::Isometry3d>& start_poses,
+                        double step_time);
   /// 1. x += h/2 v for nodes [begin, end); their kinematic nodes go where `poses` (GroupPoses
   /// at t0 + h/2) put them. `save`: first copies the nodes' positions and velocities into the
   /// saved ones, for a rejected step (the explicit integrator's first drift of a step).
@@ -302,7 +320,9 @@ class World {
   /// 1-4 of the explicit integrator: each node share of the body's force loops drifts, places
   /// its kinematic nodes and applies its pending restitution, then, once its forces are set,
   /// adds its pushes and kicks, all on the share's thread (ForceEvaluator::NodeStages).
-  void DriftForceAndKick(Body* body, double h, double t0);
+  /// `finish(share, begin, end)`, if given, runs on each share right after its kick.
+  void DriftForceAndKick(Body* body, double h, double t0,
+                         const std::function<void(int, int, int)>* finish = nullptr);
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
   /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with
@@ -410,6 +430,15 @@ class World {
                        double step_time);
   /// 7. x += h/2 v, noting the fastest node; kinematic nodes at their frames at t0 + h.
   void DriftHalfNotingFastest(Body* body, double h, double t0) const;
+  /// 7 for node share `share` [begin, end): x += h/2 v, its fastest velocity component and
+  /// whether a value is not finite into fastest[share] and nonfinite[share].
+  static void DriftShareNotingExtremes(Body* body, double h, int share, int begin, int end,
+                                       std::vector<double>* fastest,
+                                       std::vector<double>* nonfinite);
+  /// 7, after every share's drift: notes the fastest node if a share flagged one, and places the
+  /// kinematic nodes at their frames at t.
+  void NoteDriftExtremes(Body* body, const std::vector<double>& fastest,
+                         const std::vector<double>& nonfinite, double t) const;
   /// Notes the body's fastest node, or a node with a non-finite value, for CheckSane.
   static void NoteFastest(Body* body);
 
@@ -419,6 +448,17 @@ class World {
   /// share taking the border nodes among its nodes and recording into its own ContactRecords,
   /// added to the body's in share order: with one share the body's records directly.
   void CollideWithColliders(Body* body, int* microcollisions);
+  /// CollideWithColliders in three parts. Begin: the colliders' frames (at their current
+  /// poses) and frictions, the near flags and the shares' records sized. Precondition: some
+  /// collider.
+  ContactStage BeginContactStage(Body* body) const;
+  /// Node share `share` [begin, end): its border nodes, recorded into the body's records (share
+  /// 0, its rebounds into *first_pending) or the share's own.
+  void CollideShare(ContactStage* stage, Body* body, int share, int begin, int end,
+                    std::vector<PendingResponse>* first_pending) const;
+  /// End: the records of the shares after the first added to the body's in share order, and
+  /// the microcollisions to *microcollisions.
+  static void EndContactStage(const ContactStage& stage, Body* body, int* microcollisions);
   /// Border nodes [k_begin, k_end) of CollideWithColliders; `frictions`: Friction(*body, c) per
   /// collider c.
   void CollideBorderNodes(const std::vector<ColliderFrame>& frames,

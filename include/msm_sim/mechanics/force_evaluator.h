@@ -113,23 +113,24 @@ class ForceEvaluator {
 
   /// Per-node work a caller does around SetForces on each node share's own thread ("owner
   /// computes": a share's nodes stay in its core's cache from one step to the next).
-  /// `before(begin, end)` may change the positions and velocities of nodes [begin, end) before
-  /// SetForces reads them; `after(begin, end)` runs once their forces are set and may read or
-  /// change those forces and velocities. Neither may touch other nodes. Where the loops have no
-  /// shares (double precision, models below kParallelSingleNodes, one thread) they are called
-  /// once, with (0, N), before and after the evaluation.
+  /// `before(share, begin, end)` may change the positions and velocities of share `share`'s nodes
+  /// [begin, end) before SetForces reads them; `after(share, begin, end)` runs once their forces
+  /// are set and may read or change those forces and velocities. Neither may touch other nodes.
+  /// Shares are numbered 0 .. NumNodeShares() - 1 in node order, as ForEachNodeShare numbers
+  /// them. Where the loops have no shares (double precision, models below kParallelSingleNodes,
+  /// one thread) they are called once, with (0, 0, N), before and after the evaluation.
   ///
-  /// `after_unstored(begin, end, end_forces, n)`, optional, replaces storing the forces of nodes
-  /// [begin, end) and `after` where the single-precision loops have no orientation barrier: it
-  /// gets the springs' forces unsummed, node i's being the sum over d of the float
+  /// `after_unstored(share, begin, end, end_forces, n)`, optional, replaces storing the forces of
+  /// nodes [begin, end) and `after` where the single-precision loops have no orientation barrier:
+  /// it gets the springs' forces unsummed, node i's being the sum over d of the float
   /// end_forces[d * n + i] (its a ends) and end_forces[(3 + d) * n + i] (its b ends), each taken
   /// to double before adding (as *forces would hold it), for d = x, y, z, and must do what `after`
   /// would with them. *forces is then left unset for those nodes. (The explicit kick fused with
   /// the sums: the forces are not written to memory and read back.)
   struct NodeStages {
-    std::function<void(int, int)> before;
-    std::function<void(int, int)> after;
-    std::function<void(int, int, const float*, long)> after_unstored;
+    std::function<void(int, int, int)> before;
+    std::function<void(int, int, int)> after;
+    std::function<void(int, int, int, const float*, long)> after_unstored;
   };
   /// SetForces with `stages` (both set) run on each share.
   void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
