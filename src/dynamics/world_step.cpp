@@ -76,6 +76,26 @@ void DriftNotingExtremes(long count, double tau, const double* v, double* x,
   *nonfinite = sum;
 }
 
+// DriftNotingExtremes, then Drift again with the same v: x = (x + tau v) + tau v, each sum
+// rounded as two passes round it (the file is compiled without contraction), the extremes of the
+// first.
+MSM_SIM_SIMD_CLONES
+void DriftTwiceNotingExtremes(long count, double tau, const double* v, double* x,
+                              double* fastest_component, double* nonfinite) {
+  const double* __restrict from = v;
+  double* __restrict to = x;
+  double fastest = 0.0, sum = 0.0;
+#pragma omp simd reduction(max : fastest) reduction(+ : sum)
+  for (long j = 0; j < count; ++j) {
+    const double once = to[j] + tau * from[j];
+    fastest = std::max(fastest, std::abs(from[j]));
+    sum += once - once;
+    to[j] = once + tau * from[j];
+  }
+  *fastest_component = fastest;
+  *nonfinite = sum;
+}
+
 // v += h f / m + h g for n nodes (3-vectors, column-major).
 MSM_SIM_SIMD_CLONES
 void KickNodes(int n, double h, const double* forces, const double* inverse_masses,
@@ -221,6 +241,8 @@ void World::ClearStepRecords() {
 std::string World::RunSubsteps(int count, double h,
                                const std::vector<Eigen::Isometry3d>& start_poses) {
   substep_ = h;
+  substep_count_ = count;
+  drifted_ahead_ = false;
   for (int k = 0; k < count; ++k) {
     substep_index_ = k;
     Substep(h, start_poses, k * h);
@@ -375,11 +397,20 @@ void World::SubstepInOnePass(Body* body, double h,
   std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
   // The first share's rebounds wait in next_pending while the shares still apply `pending`.
   body->next_pending.clear();
+  // Within a Step, the next substep's first drift comes with this one's last (one pass over the
+  // nodes fewer); nothing between them moves a node (the sanity check reads the velocities, and
+  // a rejected step restores its start).
+  const bool drifted = drifted_ahead_;
+  drifted_ahead_ = substep_index_ + 1 < substep_count_;
   const std::function<void(int, int, int)> finish = [&](int share, int begin, int end) {
     if (contacts) CollideShare(&stage, body, share, begin, end, &body->next_pending);  // 5-6
-    DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);        // 7
+    if (drifted_ahead_) {
+      DriftShareTwice(body, h, share, begin, end, &fastest, &nonfinite);  // 7, then 1
+    } else {
+      DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);  // 7
+    }
   };
-  DriftForceAndKick(body, h, t0, &finish);  // 1-4, then `finish`; `pending` is now cleared
+  DriftForceAndKick(body, h, t0, &finish, drifted);  // 1-4, then `finish`; `pending` cleared
   body->pending.swap(body->next_pending);
   if (contacts) EndContactStage(stage, body, &microcollisions_);
   NoteDriftExtremes(body, fastest, nonfinite, t0 + h);
@@ -449,17 +480,18 @@ void World::Kick(Body* body, double h, int begin, int end) const {
 }
 
 void World::DriftForceAndKick(Body* body, double h, double t0,
-                              const std::function<void(int, int, int)>* finish) {
+                              const std::function<void(int, int, int)>* finish, bool drifted) {
   // Each node share of the force loops drifts, kicks and places its own nodes on its own thread
   // (ForceEvaluator::NodeStages): they stay in that core's cache, and with two threads the
   // per-node stages no longer wait on one core (docs/physics.md §9).
   // The frames' poses here, on the caller's thread: a pose function need not be thread-safe.
   const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
   ForceEvaluator::NodeStages stages;
+  if (drifted) stages.node0_before = body->node0_at_substep_end.data();
   const bool save = substep_index_ == 0;  // SaveForRollback's copy of the nodes
-  stages.before = [body, h, &poses, save](int, int begin, int end) {
-    DriftHalf(body, h, poses, begin, end, save);  // 1
-    ApplyPendingRestitution(body, begin, end);    // 2
+  stages.before = [body, h, &poses, save, drifted](int, int begin, int end) {
+    if (!drifted) DriftHalf(body, h, poses, begin, end, save);  // 1
+    ApplyPendingRestitution(body, begin, end);                  // 2
   };
   stages.after = [this, body, h, finish](int share, int begin, int end) {
     AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
@@ -535,6 +567,18 @@ void World::DriftShareNotingExtremes(Body* body, double h, int share, int begin,
   DriftNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
                       body->state.positions.data() + 3L * begin, &(*fastest)[share],
                       &(*nonfinite)[share]);
+}
+
+void World::DriftShareTwice(Body* body, double h, int share, int begin, int end,
+                            std::vector<double>* fastest, std::vector<double>* nonfinite) {
+  if (begin == 0 && end > 0) {
+    // As the loop rounds it (no contraction in this file).
+    body->node0_at_substep_end =
+        body->state.positions.col(0) + 0.5 * h * body->state.velocities.col(0);
+  }
+  DriftTwiceNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
+                           body->state.positions.data() + 3L * begin, &(*fastest)[share],
+                           &(*nonfinite)[share]);
 }
 
 void World::NoteDriftExtremes(Body* body, const std::vector<double>& fastest,

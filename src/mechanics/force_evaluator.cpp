@@ -512,7 +512,10 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
 
   // Relative to node 0 (where it is before the stages move it): a float resolves 6e-8 of the
   // body's size, not of its distance from the world's origin.
-  const double origin[3] = {positions(0, 0), positions(1, 0), positions(2, 0)};
+  const double* moved_from = stages_ != nullptr ? stages_->node0_before : nullptr;
+  const double origin[3] = {moved_from != nullptr ? moved_from[0] : positions(0, 0),
+                            moved_from != nullptr ? moved_from[1] : positions(1, 0),
+                            moved_from != nullptr ? moved_from[2] : positions(2, 0)};
   const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
   const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
   const SingleNodeArrays* velocities = damping.velocities != nullptr ? &v_arrays : nullptr;

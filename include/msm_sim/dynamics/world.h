@@ -225,6 +225,9 @@ class World {
     // The rebounds the first node share's contacts leave while `pending` is still being applied
     // (SubstepInOnePass), moved into it once it has been.
     std::vector<PendingResponse> next_pending;
+    // Node 0's position between the two drifts of World::DriftShareTwice (the end of the
+    // substep), where the next substep's force loops round relative to.
+    Eigen::Vector3d node0_at_substep_end = Eigen::Vector3d::Zero();
     std::vector<double> pair_friction;           // per collider; < 0: default
     double stable_step = 0.0;                    // without the constrained nodes (UpdateStableStep)
     double self_contact_rest_distance_sq = 0.0;  // m^2
@@ -297,9 +300,10 @@ class World {
   bool SubstepsInOnePass() const;
   /// Substep for that body: the colliders at mid-substep first (stages 1-4 do not read them),
   /// then each node share drifts, kicks, collides its border nodes and drifts again on its own
-  /// thread, with one hand-over between threads fewer than stage by stage, and two fewer
-  /// hand-overs per substep. The same arithmetic in the same order per node, and the same records
-  /// in the same order, as Substep stage by stage.
+  /// thread: two hand-overs between threads fewer per substep than stage by stage. Within a
+  /// Step, a substep's last drift also takes the next substep's first (DriftShareTwice): one
+  /// pass over the nodes fewer. The same arithmetic in the same order per node, and the same
+  /// records in the same order, as Substep stage by stage.
   void SubstepInOnePass(Body* body, double h, const std::vector<Eigen::Isometry3d>& start_poses,
                         double step_time);
   /// 1. x += h/2 v for nodes [begin, end); their kinematic nodes go where `poses` (GroupPoses
@@ -321,8 +325,11 @@ class World {
   /// its kinematic nodes and applies its pending restitution, then, once its forces are set,
   /// adds its pushes and kicks, all on the share's thread (ForceEvaluator::NodeStages).
   /// `finish(share, begin, end)`, if given, runs on each share right after its kick.
+  /// `drifted`: stage 1's drift was already taken (drifted_ahead_; only without kinematic
+  /// groups, whose nodes it would not place).
   void DriftForceAndKick(Body* body, double h, double t0,
-                         const std::function<void(int, int, int)>* finish = nullptr);
+                         const std::function<void(int, int, int)>* finish = nullptr,
+                         bool drifted = false);
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
   /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with
@@ -435,6 +442,11 @@ class World {
   static void DriftShareNotingExtremes(Body* body, double h, int share, int begin, int end,
                                        std::vector<double>* fastest,
                                        std::vector<double>* nonfinite);
+  /// The same, then stage 1 of the next substep (x += h/2 v again, before its restitution): the
+  /// same two roundings per coordinate in one pass over the nodes, the extremes noted at the
+  /// substep's end.
+  static void DriftShareTwice(Body* body, double h, int share, int begin, int end,
+                              std::vector<double>* fastest, std::vector<double>* nonfinite);
   /// 7, after every share's drift: notes the fastest node if a share flagged one, and places the
   /// kinematic nodes at their frames at t.
   void NoteDriftExtremes(Body* body, const std::vector<double>& fastest,
@@ -573,7 +585,11 @@ class World {
   bool stopped_after_failure_ = false;  // the last Step failed and stopped the bodies
   int substep_refinement_ = 1;          // explicit: stable substep divided by this (Step)
   int substep_index_ = 0;               // of the current substep within its Step
-  double substep_ = 0.0;                // s, the current substep
+  int substep_count_ = 0;               // substeps of the current Step
+  // SubstepInOnePass: the last drift of the substep just taken also took the next substep's
+  // first drift (DriftShareTwice); that substep's first stage then does not drift.
+  bool drifted_ahead_ = false;
+  double substep_ = 0.0;  // s, the current substep
 
   WorldOptions options_;
   std::vector<Body> bodies_;

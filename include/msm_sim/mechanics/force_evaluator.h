@@ -131,6 +131,11 @@ class ForceEvaluator {
     std::function<void(int, int, int)> before;
     std::function<void(int, int, int)> after;
     std::function<void(int, int, int, const float*, long)> after_unstored;
+    /// Optional: where node 0 was before the caller moved it for this evaluation, if it did so
+    /// before calling (not in `before`). The single loops round positions relative to node 0's
+    /// place before the stages; with this, a caller that moves the nodes ahead gets the same
+    /// rounding as with `before` moving them. Null: node 0's position at the call.
+    const double* node0_before = nullptr;
   };
   /// SetForces with `stages` (both set) run on each share.
   void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
