@@ -243,6 +243,10 @@ std::string World::RunSubsteps(int count, double h,
   substep_ = h;
   substep_count_ = count;
   drifted_ahead_ = false;
+  rounded_ahead_ = false;
+  for (Body& body : bodies_) {
+    if (body.model->num_nodes() > 0) body.float_origin = body.state.positions.col(0);
+  }
   for (int k = 0; k < count; ++k) {
     substep_index_ = k;
     Substep(h, start_poses, k * h);
@@ -397,22 +401,38 @@ void World::SubstepInOnePass(Body* body, double h,
   std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
   // The first share's rebounds wait in next_pending while the shares still apply `pending`.
   body->next_pending.clear();
-  // Within a Step, the next substep's first drift comes with this one's last (one pass over the
-  // nodes fewer); nothing between them moves a node (the sanity check reads the velocities, and
-  // a rejected step restores its start).
-  const bool drifted = drifted_ahead_;
+  // Within a Step, the next substep's stages 1-2 come with this one's last drift, and its float
+  // loops' rounding with them (one pass over the nodes and one hand-over fewer). Nothing between
+  // the two substeps moves a node: the sanity check reads the drift's flags (a flagged substep's
+  // NoteFastest sees the rebounds applied), and a rejected step restores its start.
+  const bool drifted = drifted_ahead_, rounded = rounded_ahead_;
   drifted_ahead_ = substep_index_ + 1 < substep_count_;
+  rounded_ahead_ = drifted_ahead_ && body->evaluator.RoundsNodes();
+  const Eigen::Matrix3Xd* dampers =
+      body->options.damping_beta != 0.0 ? &body->state.velocities : nullptr;
   const std::function<void(int, int, int)> finish = [&](int share, int begin, int end) {
     if (contacts) CollideShare(&stage, body, share, begin, end, &body->next_pending);  // 5-6
-    if (drifted_ahead_) {
-      DriftShareTwice(body, h, share, begin, end, &fastest, &nonfinite);  // 7, then 1
-    } else {
+    if (!drifted_ahead_) {
       DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);  // 7
+      return;
+    }
+    DriftShareTwice(body, h, share, begin, end, &fastest, &nonfinite);  // 7, then the next 1
+    if (contacts) {  // the next 2: the rebounds this share's contacts left, on its own nodes
+      const std::vector<PendingResponse>& rebounds =
+          share == 0 ? body->next_pending : body->share_records[share - 1].pending;
+      for (const PendingResponse& rebound : rebounds) {
+        body->state.velocities.col(rebound.node) += rebound.delta_v;
+      }
+    }
+    if (rounded_ahead_) {
+      body->evaluator.RoundNodes(body->state.positions, dampers, begin, end,
+                                 body->float_origin.data());
     }
   };
-  DriftForceAndKick(body, h, t0, &finish, drifted);  // 1-4, then `finish`; `pending` cleared
-  body->pending.swap(body->next_pending);
+  DriftForceAndKick(body, h, t0, &finish, drifted, rounded);  // 1-4, then `finish`
+  body->pending.swap(body->next_pending);                     // `pending` was cleared
   if (contacts) EndContactStage(stage, body, &microcollisions_);
+  if (drifted_ahead_) body->pending.clear();  // applied
   NoteDriftExtremes(body, fastest, nonfinite, t0 + h);
 }
 
@@ -480,18 +500,21 @@ void World::Kick(Body* body, double h, int begin, int end) const {
 }
 
 void World::DriftForceAndKick(Body* body, double h, double t0,
-                              const std::function<void(int, int, int)>* finish, bool drifted) {
+                              const std::function<void(int, int, int)>* finish, bool drifted,
+                              bool rounded) {
   // Each node share of the force loops drifts, kicks and places its own nodes on its own thread
   // (ForceEvaluator::NodeStages): they stay in that core's cache, and with two threads the
   // per-node stages no longer wait on one core (docs/physics.md §9).
   // The frames' poses here, on the caller's thread: a pose function need not be thread-safe.
   const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
   ForceEvaluator::NodeStages stages;
-  if (drifted) stages.node0_before = body->node0_at_substep_end.data();
+  stages.origin = body->float_origin.data();
+  stages.rounded = rounded && body->evaluator.RoundsNodes();
   const bool save = substep_index_ == 0;  // SaveForRollback's copy of the nodes
   stages.before = [body, h, &poses, save, drifted](int, int begin, int end) {
-    if (!drifted) DriftHalf(body, h, poses, begin, end, save);  // 1
-    ApplyPendingRestitution(body, begin, end);                  // 2
+    if (drifted) return;                          // 1-2 taken ahead
+    DriftHalf(body, h, poses, begin, end, save);  // 1
+    ApplyPendingRestitution(body, begin, end);    // 2
   };
   stages.after = [this, body, h, finish](int share, int begin, int end) {
     AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
@@ -571,11 +594,6 @@ void World::DriftShareNotingExtremes(Body* body, double h, int share, int begin,
 
 void World::DriftShareTwice(Body* body, double h, int share, int begin, int end,
                             std::vector<double>* fastest, std::vector<double>* nonfinite) {
-  if (begin == 0 && end > 0) {
-    // As the loop rounds it (no contraction in this file).
-    body->node0_at_substep_end =
-        body->state.positions.col(0) + 0.5 * h * body->state.velocities.col(0);
-  }
   DriftTwiceNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
                            body->state.positions.data() + 3L * begin, &(*fastest)[share],
                            &(*nonfinite)[share]);

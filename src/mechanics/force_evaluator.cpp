@@ -351,6 +351,18 @@ void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
   stages_ = nullptr;
 }
 
+void ForceEvaluator::RoundNodes(const Eigen::Matrix3Xd& positions,
+                                const Eigen::Matrix3Xd* velocities, int begin, int end,
+                                const double origin[3]) {
+  const Eigen::Index n = model_->num_nodes();
+  float* x = single_nodes_.data();
+  ToSingleNodeArrays(positions.data(), n, begin, end, origin, x);
+  if (velocities != nullptr) {
+    const double zero[3] = {0.0, 0.0, 0.0};
+    ToSingleNodeArrays(velocities->data(), n, begin, end, zero, x + 3 * n);
+  }
+}
+
 bool ForceEvaluator::UsesSingleLoops() const {
   // As Accumulate chooses: the run kernels unless one-pass dispersion lags on a previous
   // evaluation, in single precision where the model has them.
@@ -510,25 +522,27 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   std::vector<SingleShare> shares(count);
   for (int t = 0; t < count; ++t) shares[t] = NodeShare(t, count);
 
-  // Relative to node 0 (where it is before the stages move it): a float resolves 6e-8 of the
-  // body's size, not of its distance from the world's origin.
-  const double* moved_from = stages_ != nullptr ? stages_->node0_before : nullptr;
-  const double origin[3] = {moved_from != nullptr ? moved_from[0] : positions(0, 0),
-                            moved_from != nullptr ? moved_from[1] : positions(1, 0),
-                            moved_from != nullptr ? moved_from[2] : positions(2, 0)};
+  // Relative to node 0 (where it is before the stages move it) unless the stages say: a float
+  // resolves 6e-8 of the body's size, not of its distance from the world's origin.
+  const double* given = stages_ != nullptr ? stages_->origin : nullptr;
+  const double origin[3] = {given != nullptr ? given[0] : positions(0, 0),
+                            given != nullptr ? given[1] : positions(1, 0),
+                            given != nullptr ? given[2] : positions(2, 0)};
   const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
   const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
   const SingleNodeArrays* velocities = damping.velocities != nullptr ? &v_arrays : nullptr;
   const auto beta = static_cast<float>(damping.beta);
-  RunShares(count, [&](int t) {
-    const SingleShare& share = shares[t];
-    if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
-    ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
-    if (damping.velocities != nullptr) {
-      const double zero[3] = {0.0, 0.0, 0.0};
-      ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
-    }
-  });
+  if (stages_ == nullptr || !stages_->rounded) {
+    RunShares(count, [&](int t) {
+      const SingleShare& share = shares[t];
+      if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
+      ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
+      if (damping.velocities != nullptr) {
+        const double zero[3] = {0.0, 0.0, 0.0};
+        ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
+      }
+    });
+  }
   // In double, once every share's `before` stage has moved its nodes; added per share below.
   if (barrier_) {
     barrier_forces_.setZero(3, n);

@@ -271,6 +271,42 @@ TEST(SinglePrecisionEvaluator, SetForcesEqualsAddingOntoZero) {
   }
 }
 
+// Nodes rounded ahead (ForceEvaluator::RoundNodes, in two ranges) and NodeStages::rounded give
+// the forces of the loops' own rounding relative to the same origin, to the bit, on one and two
+// threads, without calling `before`; with another origin the rounding, and so the forces, differ.
+TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRounding) {
+  const Model model = Block(0.45, 0.0035);
+  ASSERT_GE(model.num_nodes(), 1'000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 12);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 13);
+  const double origin[3] = {0.013, -0.002, 0.007};
+  const int n = model.num_nodes();
+  for (const int threads : {1, 2}) {
+    ForceEvaluator own(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator ahead(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    own.set_precision(SpringPrecision::kSingle);
+    ahead.set_precision(SpringPrecision::kSingle);
+    ASSERT_TRUE(ahead.RoundsNodes());
+    std::atomic<int> befores{0};
+    ForceEvaluator::NodeStages stages;
+    stages.before = [&](int, int, int) { ++befores; };
+    stages.after = [](int, int, int) {};
+    stages.origin = origin;
+    Eigen::Matrix3Xd expected, first, rounded;
+    own.SetForces(x, v, 1e-3, &expected, stages);
+    EXPECT_GT(befores.load(), 0);
+    ahead.SetForces(x, v, 1e-3, &first);  // sizes the node arrays (node 0 as origin)
+    EXPECT_NE(first, expected) << "the origin changes the rounding";
+    ahead.RoundNodes(x, &v, 0, n / 3, origin);
+    ahead.RoundNodes(x, &v, n / 3, n, origin);
+    befores = 0;
+    stages.rounded = true;
+    ahead.SetForces(x, v, 1e-3, &rounded, stages);
+    EXPECT_EQ(befores.load(), 0) << threads;
+    EXPECT_EQ(rounded, expected) << threads;
+  }
+}
+
 // NodeStages::after_unstored gets the forces SetForces would have stored, to the bit, for every
 // node once (on one and two threads); `after` is not called and *forces is left as it was.
 TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {

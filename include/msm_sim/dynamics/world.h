@@ -225,9 +225,10 @@ class World {
     // The rebounds the first node share's contacts leave while `pending` is still being applied
     // (SubstepInOnePass), moved into it once it has been.
     std::vector<PendingResponse> next_pending;
-    // Node 0's position between the two drifts of World::DriftShareTwice (the end of the
-    // substep), where the next substep's force loops round relative to.
-    Eigen::Vector3d node0_at_substep_end = Eigen::Vector3d::Zero();
+    // Node 0's position at the start of the current Step: the explicit force loops of all its
+    // substeps round positions relative to it (NodeStages::origin), so that a substep can
+    // round the next one's nodes ahead (SubstepInOnePass).
+    Eigen::Vector3d float_origin = Eigen::Vector3d::Zero();
     std::vector<double> pair_friction;           // per collider; < 0: default
     double stable_step = 0.0;                    // without the constrained nodes (UpdateStableStep)
     double self_contact_rest_distance_sq = 0.0;  // m^2
@@ -301,9 +302,10 @@ class World {
   /// Substep for that body: the colliders at mid-substep first (stages 1-4 do not read them),
   /// then each node share drifts, kicks, collides its border nodes and drifts again on its own
   /// thread: two hand-overs between threads fewer per substep than stage by stage. Within a
-  /// Step, a substep's last drift also takes the next substep's first (DriftShareTwice): one
-  /// pass over the nodes fewer. The same arithmetic in the same order per node, and the same
-  /// records in the same order, as Substep stage by stage.
+  /// Step, a share's last drift also takes the next substep's first (DriftShareTwice), applies
+  /// the rebounds its contacts left and rounds its nodes for the next float loops: one pass over
+  /// the nodes and one more hand-over fewer. The same arithmetic in the same order per node, and
+  /// the same records in the same order, as Substep stage by stage.
   void SubstepInOnePass(Body* body, double h, const std::vector<Eigen::Isometry3d>& start_poses,
                         double step_time);
   /// 1. x += h/2 v for nodes [begin, end); their kinematic nodes go where `poses` (GroupPoses
@@ -325,11 +327,12 @@ class World {
   /// its kinematic nodes and applies its pending restitution, then, once its forces are set,
   /// adds its pushes and kicks, all on the share's thread (ForceEvaluator::NodeStages).
   /// `finish(share, begin, end)`, if given, runs on each share right after its kick.
-  /// `drifted`: stage 1's drift was already taken (drifted_ahead_; only without kinematic
-  /// groups, whose nodes it would not place).
+  /// `drifted`: stages 1-2 were already taken (drifted_ahead_; only without kinematic groups,
+  /// whose nodes it would not place), and the nodes rounded for the float loops if
+  /// rounded_ahead_.
   void DriftForceAndKick(Body* body, double h, double t0,
                          const std::function<void(int, int, int)>* finish = nullptr,
-                         bool drifted = false);
+                         bool drifted = false, bool rounded = false);
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
   /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with
@@ -587,8 +590,10 @@ class World {
   int substep_index_ = 0;               // of the current substep within its Step
   int substep_count_ = 0;               // substeps of the current Step
   // SubstepInOnePass: the last drift of the substep just taken also took the next substep's
-  // first drift (DriftShareTwice); that substep's first stage then does not drift.
+  // first drift (DriftShareTwice) and applied its restitution; that substep's first stage then
+  // has nothing left to do. rounded_ahead_: and the nodes were rounded for its float loops.
   bool drifted_ahead_ = false;
+  bool rounded_ahead_ = false;
   double substep_ = 0.0;  // s, the current substep
 
   WorldOptions options_;

@@ -131,11 +131,14 @@ class ForceEvaluator {
     std::function<void(int, int, int)> before;
     std::function<void(int, int, int)> after;
     std::function<void(int, int, int, const float*, long)> after_unstored;
-    /// Optional: where node 0 was before the caller moved it for this evaluation, if it did so
-    /// before calling (not in `before`). The single loops round positions relative to node 0's
-    /// place before the stages; with this, a caller that moves the nodes ahead gets the same
-    /// rounding as with `before` moving them. Null: node 0's position at the call.
-    const double* node0_before = nullptr;
+    /// Optional: the point (x, y, z, m) the single loops round positions relative to; a float
+    /// then resolves 6e-8 of a node's distance from it. Null: node 0's position at the call,
+    /// before `before` moves it.
+    const double* origin = nullptr;
+    /// The caller has already done what `before` would and rounded every node with RoundNodes
+    /// (relative to `origin`): the single loops skip `before` and their own rounding, one
+    /// hand-over between threads fewer. Precondition: RoundsNodes().
+    bool rounded = false;
   };
   /// SetForces with `stages` (both set) run on each share.
   void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
@@ -145,6 +148,16 @@ class ForceEvaluator {
   void ForEachNodeShare(const std::function<void(int, int, int)>& task);
   /// The number of shares ForEachNodeShare runs.
   int NumNodeShares() const;
+  /// Whether the next SetForces takes the single-precision loops, whose node arrays RoundNodes
+  /// fills.
+  bool RoundsNodes() const { return UsesSingleLoops(); }
+  /// Rounds nodes [begin, end) of `positions` (relative to `origin`) and of `velocities` (null
+  /// for no dampers) into the single loops' node arrays, for the next SetForces with
+  /// NodeStages::rounded. Concurrent calls for disjoint ranges are safe, also from a stage of
+  /// the SetForces that runs now (its `after` stages read only the force arrays).
+  /// Precondition: RoundsNodes(), and a SetForces in single precision has run on this model.
+  void RoundNodes(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd* velocities, int begin,
+                  int end, const double origin[3]);
 
   /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
   /// Phi = sum_x J_x^2 / (2 q W_x) (plus the orientation barrier's, if set). Phi is exact for
