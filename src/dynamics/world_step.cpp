@@ -59,29 +59,13 @@ void SaveAndDrift(long count, double tau, const double* v, double* x, double* sa
 }
 
 // The same as Drift, also returning the largest |velocity component| and x - x summed (0 while
-// every x is finite, NaN once one is not; a NaN velocity makes x NaN too).
-MSM_SIM_SIMD_CLONES
-void DriftNotingExtremes(long count, double tau, const double* v, double* x,
-                         double* fastest_component, double* nonfinite) {
-  const double* __restrict from = v;
-  double* __restrict to = x;
-  double fastest = 0.0, sum = 0.0;
-#pragma omp simd reduction(max : fastest) reduction(+ : sum)
-  for (long j = 0; j < count; ++j) {
-    to[j] += tau * from[j];
-    fastest = std::max(fastest, std::abs(from[j]));
-    sum += to[j] - to[j];
-  }
-  *fastest_component = fastest;
-  *nonfinite = sum;
-}
-
-// DriftNotingExtremes, then Drift again with the same v: x = (x + tau v) + tau v, each sum
-// rounded as two passes round it (the file is compiled without contraction), the extremes of the
-// first.
-MSM_SIM_SIMD_CLONES
-void DriftTwiceNotingExtremes(long count, double tau, const double* v, double* x,
-                              double* fastest_component, double* nonfinite) {
+// every x is finite, NaN once one is not; a NaN velocity makes x NaN too). kTwice: then Drift
+// again with the same v, x = (x + tau v) + tau v in one pass, each sum rounded as two passes
+// round it (the file is compiled without contraction), the extremes those of the first.
+template <bool kTwice>
+inline __attribute__((always_inline)) void DriftNoting(long count, double tau, const double* v,
+                                                       double* x, double* fastest_component,
+                                                       double* nonfinite) {
   const double* __restrict from = v;
   double* __restrict to = x;
   double fastest = 0.0, sum = 0.0;
@@ -90,10 +74,22 @@ void DriftTwiceNotingExtremes(long count, double tau, const double* v, double* x
     const double once = to[j] + tau * from[j];
     fastest = std::max(fastest, std::abs(from[j]));
     sum += once - once;
-    to[j] = once + tau * from[j];
+    to[j] = kTwice ? once + tau * from[j] : once;
   }
   *fastest_component = fastest;
   *nonfinite = sum;
+}
+
+MSM_SIM_SIMD_CLONES
+void DriftNotingExtremes(long count, double tau, const double* v, double* x,
+                         double* fastest_component, double* nonfinite) {
+  DriftNoting<false>(count, tau, v, x, fastest_component, nonfinite);
+}
+
+MSM_SIM_SIMD_CLONES
+void DriftTwiceNotingExtremes(long count, double tau, const double* v, double* x,
+                              double* fastest_component, double* nonfinite) {
+  DriftNoting<true>(count, tau, v, x, fastest_component, nonfinite);
 }
 
 // v += h f / m + h g for n nodes (3-vectors, column-major).

@@ -286,6 +286,24 @@ int AddBlockAboveGround(World* world) {
   return body;
 }
 
+// A 1 cm sphere (Coulomb coefficient `friction`) 8 mm above the top of the block `body`, moving
+// down at 10 cm/s, and a push of (0.5, -0.3, -1) N for 8 ms near the top at (5, 1) cm; returns the
+// sphere's collider index.
+int PressAndPush(World* world, int body, double friction) {
+  const Model& block = world->model(body);
+  const double top = block.rest_positions().row(2).maxCoeff();
+  Collider sphere;
+  sphere.shape = ColliderShape::Sphere(0.01);
+  sphere.pose.translation() =
+      Eigen::Vector3d(0.03, 0.03, top + world->border(body).radii[0] + 0.008);
+  sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.1);
+  sphere.friction = friction;
+  const int finger = world->AddCollider(sphere);
+  world->ApplyForce(body, Eigen::Vector3d(0.05, 0.01, top), Eigen::Vector3d(0.5, -0.3, -1.0), 0.008,
+                    1.0);
+  return finger;
+}
+
 // The block above dropped onto the ground, with restitution left pending at every contact, a
 // sphere pressing into its top, a push on nodes near the top and a kinematic group across both
 // halves of the node order, for 60 ms on `threads` threads.
@@ -295,13 +313,7 @@ SharedRun RunSharedScene(int threads) {
   World world(options);
   const int body = AddBlockAboveGround(&world);
   const Model& block = world.model(body);
-  const double top = block.rest_positions().row(2).maxCoeff();
-  const double radius = world.border(body).radii[0];
-  Collider sphere;
-  sphere.shape = ColliderShape::Sphere(0.01);
-  sphere.pose.translation() = Eigen::Vector3d(0.03, 0.03, top + radius + 0.008);
-  sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.1);
-  const int finger = world.AddCollider(sphere);
+  const int finger = PressAndPush(&world, body, 0.5);
   // The nodes of the side x < 3 mm from bottom to top, in both shares, swaying in y.
   world.AddKinematicGroup(
       body, KinematicGroup{
@@ -312,8 +324,6 @@ SharedRun RunSharedScene(int threads) {
                   pose.translation().y() = 1e-3 * std::sin(40.0 * t);
                   return pose;
                 }});
-  world.ApplyForce(body, Eigen::Vector3d(0.05, 0.01, top), Eigen::Vector3d(0.5, -0.3, -1.0), 0.008,
-                   1.0);
   SharedRun run;
   for (int step = 0; step < 60; ++step) {
     const StepReport report = world.Step(1e-3);
@@ -371,16 +381,7 @@ OnePassRun RunOnePassScene(int threads, bool far_body) {
     far_options.damping_beta = 1e-4;
     world.AddBody("far", std::make_shared<const Model>(TransformedModel(block, away)), far_options);
   }
-  const double top = block.rest_positions().row(2).maxCoeff();
-  Collider sphere;
-  sphere.shape = ColliderShape::Sphere(0.01);
-  sphere.pose.translation() =
-      Eigen::Vector3d(0.03, 0.03, top + world.border(body).radii[0] + 0.008);
-  sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.1);
-  sphere.friction = 0.8;
-  world.AddCollider(sphere);
-  world.ApplyForce(body, Eigen::Vector3d(0.05, 0.01, top), Eigen::Vector3d(0.5, -0.3, -1.0), 0.008,
-                   1.0);
+  PressAndPush(&world, body, 0.8);
   OnePassRun run;
   for (int step = 0; step < 60; ++step) {
     const StepReport report = world.Step(1e-3);

@@ -258,8 +258,8 @@ class World {
     std::vector<Eigen::Isometry3d> collider_poses;
     double time = 0.0;
   };
-  // One substep's contact records (defined in world_contacts.cpp).
-  // (ColliderFrame, NodeContact and ContactStage: dynamics/world_contact_stage.h.)
+  // One substep's contact records (defined in the private dynamics/world_contact_stage.h, and
+  // PairContact in world_pair_contacts.cpp).
   struct ColliderFrame;  // a collider's inverse pose and bounds, for detection
   struct NodeContact;    // a node touching a collider
   struct ContactStage;   // what a body's contact stage shares between its node shares
