@@ -408,17 +408,12 @@ void World::SubstepInOnePass(Body* body, double h,
       body->options.damping_beta != 0.0 ? &body->state.velocities : nullptr;
   const std::function<void(int, int, int)> finish = [&](int share, int begin, int end) {
     if (contacts) CollideShare(&stage, body, share, begin, end, &body->next_pending);  // 5-6
-    if (!drifted_ahead_) {
-      DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);  // 7
-      return;
-    }
-    DriftShareTwice(body, h, share, begin, end, &fastest, &nonfinite);  // 7, then the next 1
+    DriftShare(body, h, drifted_ahead_, share, begin, end, &fastest, &nonfinite);      // 7 (, 1)
+    if (!drifted_ahead_) return;
     if (contacts) {  // the next 2: the rebounds this share's contacts left, on its own nodes
-      const std::vector<PendingResponse>& rebounds =
-          share == 0 ? body->next_pending : body->share_records[share - 1].pending;
-      for (const PendingResponse& rebound : rebounds) {
-        body->state.velocities.col(rebound.node) += rebound.delta_v;
-      }
+      ApplyPendingRestitution(
+          body, share == 0 ? body->next_pending : body->share_records[share - 1].pending, begin,
+          end);
     }
     if (rounded_ahead_) {
       body->evaluator.RoundNodes(body->state.positions, dampers, begin, end,
@@ -461,12 +456,13 @@ void World::DriftHalf(Body* body, double h, const std::vector<Eigen::Isometry3d>
 }
 
 void World::ApplyPendingRestitution(Body* body) {
-  ApplyPendingRestitution(body, 0, body->model->num_nodes());
+  ApplyPendingRestitution(body, body->pending, 0, body->model->num_nodes());
   body->pending.clear();
 }
 
-void World::ApplyPendingRestitution(Body* body, int begin, int end) {
-  for (const PendingResponse& response : body->pending) {
+void World::ApplyPendingRestitution(Body* body, const std::vector<PendingResponse>& rebounds,
+                                    int begin, int end) {
+  for (const PendingResponse& response : rebounds) {
     if (response.node >= begin && response.node < end) {
       body->state.velocities.col(response.node) += response.delta_v;
     }
@@ -508,9 +504,9 @@ void World::DriftForceAndKick(Body* body, double h, double t0,
   stages.rounded = rounded && body->evaluator.RoundsNodes();
   const bool save = substep_index_ == 0;  // SaveForRollback's copy of the nodes
   stages.before = [body, h, &poses, save, drifted](int, int begin, int end) {
-    if (drifted) return;                          // 1-2 taken ahead
-    DriftHalf(body, h, poses, begin, end, save);  // 1
-    ApplyPendingRestitution(body, begin, end);    // 2
+    if (drifted) return;                                       // 1-2 taken ahead
+    DriftHalf(body, h, poses, begin, end, save);               // 1
+    ApplyPendingRestitution(body, body->pending, begin, end);  // 2
   };
   stages.after = [this, body, h, finish](int share, int begin, int end) {
     AddPushes(body, begin, end);  // 3, with the springs' and dampers' forces
@@ -576,23 +572,16 @@ void World::DriftHalfNotingFastest(Body* body, double h, double t0) const {
   // Each node share on its own thread, as in DriftForceAndKick.
   std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
   body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
-    DriftShareNotingExtremes(body, h, share, begin, end, &fastest, &nonfinite);
+    DriftShare(body, h, false, share, begin, end, &fastest, &nonfinite);
   });
   NoteDriftExtremes(body, fastest, nonfinite, t0 + h);
 }
 
-void World::DriftShareNotingExtremes(Body* body, double h, int share, int begin, int end,
-                                     std::vector<double>* fastest, std::vector<double>* nonfinite) {
-  DriftNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
-                      body->state.positions.data() + 3L * begin, &(*fastest)[share],
-                      &(*nonfinite)[share]);
-}
-
-void World::DriftShareTwice(Body* body, double h, int share, int begin, int end,
-                            std::vector<double>* fastest, std::vector<double>* nonfinite) {
-  DriftTwiceNotingExtremes(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
-                           body->state.positions.data() + 3L * begin, &(*fastest)[share],
-                           &(*nonfinite)[share]);
+void World::DriftShare(Body* body, double h, bool twice, int share, int begin, int end,
+                       std::vector<double>* fastest, std::vector<double>* nonfinite) {
+  const auto drift = twice ? DriftTwiceNotingExtremes : DriftNotingExtremes;
+  drift(3L * (end - begin), 0.5 * h, body->state.velocities.data() + 3L * begin,
+        body->state.positions.data() + 3L * begin, &(*fastest)[share], &(*nonfinite)[share]);
 }
 
 void World::NoteDriftExtremes(Body* body, const std::vector<double>& fastest,

@@ -302,7 +302,7 @@ class World {
   /// Substep for that body: the colliders at mid-substep first (stages 1-4 do not read them),
   /// then each node share drifts, kicks, collides its border nodes and drifts again on its own
   /// thread: two hand-overs between threads fewer per substep than stage by stage. Within a
-  /// Step, a share's last drift also takes the next substep's first (DriftShareTwice), applies
+  /// Step, a share's last drift also takes the next substep's first (DriftShare), applies
   /// the rebounds its contacts left and rounds its nodes for the next float loops: one pass over
   /// the nodes and one more hand-over fewer. The same arithmetic in the same order per node, and
   /// the same records in the same order, as Substep stage by stage.
@@ -315,8 +315,10 @@ class World {
                         int begin, int end, bool save = false);
   /// 2. v += the restitution left over from the last substep's contacts (then none pending).
   static void ApplyPendingRestitution(Body* body);
-  /// The same for the nodes [begin, end), leaving the list as it is.
-  static void ApplyPendingRestitution(Body* body, int begin, int end);
+  /// The same for the nodes [begin, end) from `rebounds` (body->pending, or a node share's
+  /// rebounds applied ahead by SubstepInOnePass), leaving the list as it is.
+  static void ApplyPendingRestitution(Body* body, const std::vector<PendingResponse>& rebounds,
+                                      int begin, int end);
   /// 3. Springs, dampers and pushes into body->forces (gravity comes with the kick).
   static void ComputeForces(Body* body);
   /// 3. Adds the pushes on nodes [begin, end) to body->forces.
@@ -441,15 +443,11 @@ class World {
   /// 7. x += h/2 v, noting the fastest node; kinematic nodes at their frames at t0 + h.
   void DriftHalfNotingFastest(Body* body, double h, double t0) const;
   /// 7 for node share `share` [begin, end): x += h/2 v, its fastest velocity component and
-  /// whether a value is not finite into fastest[share] and nonfinite[share].
-  static void DriftShareNotingExtremes(Body* body, double h, int share, int begin, int end,
-                                       std::vector<double>* fastest,
-                                       std::vector<double>* nonfinite);
-  /// The same, then stage 1 of the next substep (x += h/2 v again, before its restitution): the
-  /// same two roundings per coordinate in one pass over the nodes, the extremes noted at the
-  /// substep's end.
-  static void DriftShareTwice(Body* body, double h, int share, int begin, int end,
-                              std::vector<double>* fastest, std::vector<double>* nonfinite);
+  /// whether a value is not finite into fastest[share] and nonfinite[share]. `twice`: then
+  /// stage 1 of the next substep (x += h/2 v again, before its restitution), the same two
+  /// roundings per coordinate in one pass over the nodes, the extremes noted at the substep's end.
+  static void DriftShare(Body* body, double h, bool twice, int share, int begin, int end,
+                         std::vector<double>* fastest, std::vector<double>* nonfinite);
   /// 7, after every share's drift: notes the fastest node if a share flagged one, and places the
   /// kinematic nodes at their frames at t.
   void NoteDriftExtremes(Body* body, const std::vector<double>& fastest,
@@ -590,7 +588,7 @@ class World {
   int substep_index_ = 0;               // of the current substep within its Step
   int substep_count_ = 0;               // substeps of the current Step
   // SubstepInOnePass: the last drift of the substep just taken also took the next substep's
-  // first drift (DriftShareTwice) and applied its restitution; that substep's first stage then
+  // first drift (DriftShare twice) and applied its restitution; that substep's first stage then
   // has nothing left to do. rounded_ahead_: and the nodes were rounded for its float loops.
   bool drifted_ahead_ = false;
   bool rounded_ahead_ = false;
