@@ -420,8 +420,8 @@ void World::SubstepInOnePass(Body* body, double h,
                                  body->float_origin.data());
     }
   };
-  DriftForceAndKick(body, h, t0, &finish, drifted, rounded);  // 1-4, then `finish`
-  body->pending.swap(body->next_pending);                     // `pending` was cleared
+  DriftForceAndKick(body, h, t0, &finish, drifted, rounded, rounded_ahead_);  // 1-4, `finish`
+  body->pending.swap(body->next_pending);  // `pending` was cleared
   if (contacts) EndContactStage(stage, body, &microcollisions_);
   if (drifted_ahead_) body->pending.clear();  // applied
   NoteDriftExtremes(body, fastest, nonfinite, t0 + h);
@@ -493,7 +493,7 @@ void World::Kick(Body* body, double h, int begin, int end) const {
 
 void World::DriftForceAndKick(Body* body, double h, double t0,
                               const std::function<void(int, int, int)>* finish, bool drifted,
-                              bool rounded) {
+                              bool rounded, bool rounds_ahead) {
   // Each node share of the force loops drifts, kicks and places its own nodes on its own thread
   // (ForceEvaluator::NodeStages): they stay in that core's cache, and with two threads the
   // per-node stages no longer wait on one core (docs/physics.md §9).
@@ -502,6 +502,7 @@ void World::DriftForceAndKick(Body* body, double h, double t0,
   ForceEvaluator::NodeStages stages;
   stages.origin = body->float_origin.data();
   stages.rounded = rounded && body->evaluator.RoundsNodes();
+  stages.rounds_ahead = rounds_ahead;
   const bool save = substep_index_ == 0;  // SaveForRollback's copy of the nodes
   stages.before = [body, h, &poses, save, drifted](int, int begin, int end) {
     if (drifted) return;                                       // 1-2 taken ahead

@@ -82,10 +82,12 @@ void ForceEvaluator::set_orientation_barrier(std::shared_ptr<const OrientationBa
 
 void ForceEvaluator::set_max_threads(int max_threads) {
   max_threads_ = std::clamp(max_threads, 1, WorkerPool::kMaxShares);
+  inflowed_ahead_ = false;  // the shares' overflows move
 }
 
 void ForceEvaluator::set_precision(SpringPrecision precision) {
   precision_ = precision;
+  inflowed_ahead_ = false;
   if (precision == SpringPrecision::kDouble || !scheduled_) {
     single_.reset();
   } else if (!single_) {
@@ -490,6 +492,19 @@ void ForceEvaluator::RunShares(int shares, const std::function<void(int)>& task)
   }
 }
 
+void ForceEvaluator::RunSharesInTwoParts(int shares, const std::function<void(int)>& first,
+                                         const std::function<void(int)>& second,
+                                         const std::function<int(int)>& last_read) {
+  WorkerPool& pool = WorkerPool::Shared();
+  std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
+  if (shares > 1 && lock.owns_lock()) {
+    pool.RunInTwoParts(shares, first, second, last_read);
+    return;
+  }
+  for (int t = 0; t < shares; ++t) first(t);
+  for (int t = 0; t < shares; ++t) second(t);
+}
+
 namespace {
 
 // Adds the overflows of the shares before `share` (each `length` floats from its end node, at
@@ -532,26 +547,34 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
   const SingleNodeArrays* velocities = damping.velocities != nullptr ? &v_arrays : nullptr;
   const auto beta = static_cast<float>(damping.beta);
-  if (stages_ == nullptr || !stages_->rounded) {
-    RunShares(count, [&](int t) {
-      const SingleShare& share = shares[t];
-      if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
-      ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
-      if (damping.velocities != nullptr) {
-        const double zero[3] = {0.0, 0.0, 0.0};
-        ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
-      }
-    });
-  }
-  // In double, once every share's `before` stage has moved its nodes; added per share below.
-  if (barrier_) {
-    barrier_forces_.setZero(3, n);
-    barrier_->AccumulateForces(positions, &barrier_forces_);
-  }
+  const bool dispersion = model_->dispersion_fraction() != 0.0;
+  const bool rounded = stages_ != nullptr && stages_->rounded;
+  // The first pass was taken ahead by the last evaluation, on these nodes (rounded since).
+  const bool inflowed = rounded && inflowed_ahead_ && dispersion;
+  inflowed_ahead_ = false;
+  const bool ahead = stages_ != nullptr && stages_->rounds_ahead && dispersion && !barrier_;
   const long length = single_->max_offset;
   single_overflows_.resize(4 * length * count);
   const auto overflow = [&](int t, int block) {
     return single_overflows_.data() + 4 * length * t + length * block;
+  };
+  // The last share whose nodes share t's spring loops read (b = a + d, d <= max_offset): its
+  // second parts wait for those shares' first parts only (RunSharesInTwoParts).
+  const auto last_read = [&](int t) {
+    const long reach = std::min<long>(shares[t].end + length, n) - 1;
+    int last = t;
+    while (last + 1 < count && shares[last + 1].begin <= reach) ++last;
+    return last;
+  };
+  const auto round = [&](int t) {
+    if (rounded) return;
+    const SingleShare& share = shares[t];
+    if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
+    ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
+    if (damping.velocities != nullptr) {
+      const double zero[3] = {0.0, 0.0, 0.0};
+      ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
+    }
   };
   const SingleEndForces end_forces{{f, f + n, f + 2 * n}, {f + 3 * n, f + 4 * n, f + 5 * n}};
   // Zeroes share t's nodes in `blocks` consecutive blocks of n from `nodes`, and its overflows
@@ -586,40 +609,60 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const auto overflow_forces = [&](int t) {
     return MutableSingleNodeArrays{overflow(t, 0), overflow(t, 1), overflow(t, 2)};
   };
-
-  if (model_->dispersion_fraction() == 0.0) {
-    RunShares(count, [&](int t) {
-      clear(t, f, 6, 0, 2);
-      SinglePlainRuns(*single_, shares[t], x_arrays, velocities, beta, end_forces,
-                      overflow_forces(t));
-    });
-  } else {
+  if (dispersion) {
     single_accumulators_.resize(2 * n);
     accumulator_.resize(n);
     dispersion_per_weight_.resize(n);
     single_dispersion_.resize(n);
-    float* j_a = single_accumulators_.data();
-    float* j_b = j_a + n;
-    RunShares(count, [&](int t) {
-      clear(t, j_a, 2, 3, 3);
-      SingleInflowRuns(*single_, shares[t], x_arrays, j_a, j_b, overflow(t, 3));
-    });
+  }
+  float* j_a = single_accumulators_.data();
+  float* j_b = j_a + n;
+  // The plain pass, or the eMSM first pass (J's accumulators).
+  const auto first_pass = [&](int t) {
+    if (!dispersion) {
+      clear(t, f, 6, 0, 2);
+      SinglePlainRuns(*single_, shares[t], x_arrays, velocities, beta, end_forces,
+                      overflow_forces(t));
+      return;
+    }
+    clear(t, j_a, 2, 3, 3);
+    SingleInflowRuns(*single_, shares[t], x_arrays, j_a, j_b, overflow(t, 3));
+  };
+
+  if (barrier_) {
+    if (!rounded) RunShares(count, round);
+    // In double, once every share's `before` stage has moved its nodes; added per share below.
+    barrier_forces_.setZero(3, n);
+    barrier_->AccumulateForces(positions, &barrier_forces_);
+    RunShares(count, first_pass);
+  } else if (!inflowed) {
+    RunSharesInTwoParts(count, round, first_pass, last_read);
+  }
+  if (dispersion) {
     // J and g in double as well where a one-pass evaluation after this one lags on them; two
     // passes never read them (storing them was half of SingleDispersion's time).
     const bool lag_next = passes_ == DispersionPasses::kOnePass;
-    RunShares(count, [&](int t) {
+    const auto disperse = [&](int t) {
       GatherOverflows(overflow(0, 3), 4 * length, length, shares, t, j_b);
       SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), n,
                        shares[t].begin, shares[t].end, lag_next ? accumulator_.data() : nullptr,
                        dispersion_per_weight_.data(), single_dispersion_.data());
-    });
-    RunShares(count, [&](int t) {
+    };
+    const auto second_pass = [&](int t) {
       clear(t, f, 6, 0, 2);
       SingleOutflowRuns(*single_, shares[t], x_arrays, velocities, beta, single_dispersion_.data(),
                         end_forces, overflow_forces(t));
-    });
+    };
+    RunSharesInTwoParts(count, disperse, second_pass, last_read);
   }
-  RunShares(count, apply_forces);
+  if (ahead) {
+    // Each share's kick, contacts and drift, then the next evaluation's first pass on the
+    // nodes its `after` stage and the later shares' have rounded.
+    RunSharesInTwoParts(count, apply_forces, first_pass, last_read);
+    inflowed_ahead_ = true;
+  } else {
+    RunShares(count, apply_forces);
+  }
   totals_recorded_ = false;
   totals_scheduled_ = false;
 }

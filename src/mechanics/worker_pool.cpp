@@ -13,7 +13,8 @@ inline void LetOthersRun() { std::this_thread::yield(); }
 }  // namespace
 
 WorkerPool::WorkerPool(int workers)
-    : tickets_(std::make_unique<std::atomic<std::uint64_t>[]>(std::max(workers, 0))) {
+    : tickets_(std::make_unique<std::atomic<std::uint64_t>[]>(std::max(workers, 0))),
+      first_done_(std::make_unique<FirstPartDone[]>(kMaxShares)) {
   threads_.reserve(static_cast<std::size_t>(std::max(workers, 0)));
   for (int w = 0; w < workers; ++w) {
     tickets_[w].store(0, std::memory_order_relaxed);
@@ -83,15 +84,56 @@ bool WorkerPool::Claim(std::uint64_t run, int* share) {
   }
 }
 
+void WorkerPool::RunShare(int share) {
+  (*task_)(share);
+  if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
+    std::lock_guard<std::mutex> lock(done_mutex_);
+    done_.notify_one();
+  }
+}
+
 void WorkerPool::RunClaimedShares(std::uint64_t run) {
   int share = 0;
-  while (Claim(run, &share)) {
-    (*task_)(share);
-    if (pending_.fetch_sub(1, std::memory_order_acq_rel) == 1) {
-      std::lock_guard<std::mutex> lock(done_mutex_);
-      done_.notify_one();
-    }
+  while (Claim(run, &share)) RunShare(share);
+}
+
+bool WorkerPool::RunIfUnclaimed(std::uint64_t run, int share) {
+  std::uint64_t word = claims_.load(std::memory_order_acquire);
+  if (word != ClaimWord(run, static_cast<int>((word >> kShareBits) & kShareMask), share)) {
+    return false;  // another run, or `share` claimed already (claims go in share order)
   }
+  if (!claims_.compare_exchange_strong(word, word + 1, std::memory_order_acq_rel,
+                                       std::memory_order_acquire)) {
+    return false;  // a worker claimed it just now
+  }
+  RunShare(share);
+  return true;
+}
+
+void WorkerPool::RunInTwoParts(int shares, const std::function<void(int)>& first,
+                               const std::function<void(int)>& second,
+                               const std::function<int(int)>& last_read) {
+  if (workers() == 0 || shares <= 1) {
+    for (int share = 0; share < shares; ++share) first(share);
+    for (int share = 0; share < shares; ++share) second(share);
+    return;
+  }
+  const std::uint64_t run = runs_ + 1;  // the number Run gives this run
+  const std::function<void(int)> task = [&](int share) {
+    first(share);
+    first_done_[share].run.store(run, std::memory_order_release);
+    // Every claimed share finishes its first part without waiting (a precondition), so these
+    // waits end: on a share no thread has claimed, by running it here, but only after a grace
+    // of kClaimAfter yields, in which a worker that is waking up claims it (run here at once,
+    // a share's nodes went to the caller's core whenever its worker was a microsecond late).
+    for (int later = share + 1; later <= last_read(share); ++later) {
+      for (int i = 0; first_done_[later].run.load(std::memory_order_acquire) != run; ++i) {
+        if (i < kClaimAfter || !RunIfUnclaimed(run, later)) LetOthersRun();
+      }
+    }
+    second(share);
+  };
+  Run(shares, task);
 }
 
 void WorkerPool::WorkerLoop(int index) {

@@ -46,6 +46,18 @@ class WorkerPool {
   void Run(int shares, const std::function<void(int)>& task);
   static constexpr int kMaxShares = 4095;
 
+  /// Runs first(s), then second(s), for each s = 0 .. shares - 1, where second(s) reads what
+  /// first(s') wrote for the shares s' = s + 1 .. last_read(s) (a spring loop reading the nodes
+  /// just past its share, which the next shares move): second(s) waits for those first parts
+  /// only, not for every share as a second Run would. A share whose first part it needs and
+  /// that no thread has claimed yet, it runs itself, so a worker kept off its core delays the
+  /// others no more than in Run. Without workers, or with one share: every first part, then
+  /// every second part. Preconditions as for Run; s < last_read(s) < shares, or
+  /// last_read(s) <= s for none; first(s) waits for nothing.
+  void RunInTwoParts(int shares, const std::function<void(int)>& first,
+                     const std::function<void(int)>& second,
+                     const std::function<int(int)>& last_read);
+
   /// Held by the caller of Run for its duration; a caller that cannot take it (another thread
   /// is running a task) runs its shares itself.
   std::mutex& busy() { return busy_; }
@@ -56,11 +68,16 @@ class WorkerPool {
 
  private:
   static constexpr int kSpinIterations = 2'000;
+  static constexpr int kClaimAfter = 100;
 
   void WorkerLoop(int index);
   /// Claims the next unstarted share of run `run` into *share; false once none is left or
   /// another run has begun.
   bool Claim(std::uint64_t run, int* share);
+  /// Claims share `share` of run `run` if it is the next unclaimed one, and runs it here.
+  bool RunIfUnclaimed(std::uint64_t run, int share);
+  /// Runs task_(share) and counts it as done.
+  void RunShare(int share);
   /// Runs the shares of run `run` this thread claims, counting each as done.
   void RunClaimedShares(std::uint64_t run);
   bool HasWork(int index, std::uint64_t seen) const;
@@ -82,6 +99,12 @@ class WorkerPool {
   std::uint64_t runs_ = 0;
   std::atomic<int> pending_{0};
   std::atomic<bool> stop_{false};
+  // RunInTwoParts: the run whose first part share s has finished (one cache line each, as
+  // different threads write them).
+  struct alignas(64) FirstPartDone {
+    std::atomic<std::uint64_t> run{0};
+  };
+  std::unique_ptr<FirstPartDone[]> first_done_;
   std::mutex wake_mutex_;
   std::condition_variable wake_;
   std::mutex done_mutex_;

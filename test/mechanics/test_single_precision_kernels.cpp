@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -304,6 +305,69 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
     ahead.SetForces(x, v, 1e-3, &rounded, stages);
     EXPECT_EQ(befores.load(), 0) << threads;
     EXPECT_EQ(rounded, expected) << threads;
+  }
+}
+
+// NodeStages::rounds_ahead: the `after` stages round the nodes where the next evaluation will
+// find them, and the loops take that evaluation's first pass ahead, each share once the shares
+// its springs reach have rounded theirs. The next evaluation (NodeStages::rounded) gives the
+// forces of one at those positions from scratch, to the bit, on one and two threads and on four
+// shares shorter than a layer (whose springs reach two shares on); this one's forces are not
+// disturbed, and an evaluation without `rounded` after it does not take the pass taken ahead.
+TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces) {
+  CubicLatticeOptions slab;
+  slab.size = Eigen::Vector3d(0.4, 0.4, 0.02);
+  slab.spacing = 0.01;
+  const Model block = Block(0.45, 0.0035);
+  const Model thin = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), slab);
+  ASSERT_LT(thin.num_nodes() / 4, 40 * 40);  // a share is shorter than a layer
+  const double origin[3] = {0.013, -0.002, 0.007};
+  for (const auto& [model, threads] :
+       {std::pair<const Model*, int>{&block, 1}, {&block, 2}, {&thin, 4}}) {
+    ASSERT_GE(model->num_nodes(), 1'000);
+    const int n = model->num_nodes();
+    const Eigen::Matrix3Xd x = Perturbed(model->rest_positions(), 2.5e-4, 30);
+    const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 31);
+    const Eigen::Matrix3Xd next_x = x + Perturbed(Eigen::Matrix3Xd::Zero(3, n), 1e-4, 32);
+    const Eigen::Matrix3Xd next_v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 33);
+    const Eigen::Matrix3Xd later_x = Perturbed(model->rest_positions(), 2.5e-4, 34);
+    ForceEvaluator own(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator ahead(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    own.set_precision(SpringPrecision::kSingle);
+    ahead.set_precision(SpringPrecision::kSingle);
+    ForceEvaluator::NodeStages plain;
+    plain.before = [](int, int, int) {};
+    plain.after = [](int, int, int) {};
+    plain.origin = origin;
+    Eigen::Matrix3Xd expected, expected_next, expected_later;
+    own.SetForces(x, v, 1e-3, &expected, plain);
+    own.SetForces(next_x, next_v, 1e-3, &expected_next, plain);
+    own.SetForces(later_x, v, 1e-3, &expected_later, plain);
+
+    Eigen::Matrix3Xd now(3, n), unused, next, later;
+    std::atomic<int> rounded_nodes{0};
+    ForceEvaluator::NodeStages first = plain;
+    first.after_unstored = [&](int, int begin, int end, const float* f, long count) {
+      for (int i = begin; i < end; ++i) {
+        for (int d = 0; d < 3; ++d) {
+          now(d, i) =
+              static_cast<double>(f[d * count + i]) + static_cast<double>(f[(3 + d) * count + i]);
+        }
+      }
+      ahead.RoundNodes(next_x, &next_v, begin, end, origin);
+      rounded_nodes += end - begin;
+    };
+    first.rounds_ahead = true;
+    ahead.SetForces(x, v, 1e-3, &unused, first);
+    ASSERT_EQ(rounded_nodes.load(), n);
+    EXPECT_EQ(now, expected) << threads;
+    ForceEvaluator::NodeStages second = plain;
+    second.rounded = true;
+    ahead.SetForces(next_x, next_v, 1e-3, &next, second);
+    EXPECT_EQ(next, expected_next) << threads;
+    EXPECT_NE(next, expected) << "the nodes moved";
+    ahead.SetForces(later_x, v, 1e-3, &later, plain);
+    EXPECT_EQ(later, expected_later) << threads;
   }
 }
 

@@ -1,5 +1,6 @@
 #include "mechanics/worker_pool.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -105,6 +106,41 @@ TEST(WorkerPool, BusyWhileAnotherCallerRuns) {
   EXPECT_EQ(done.load(), 2);
   std::unique_lock<std::mutex> after(pool.busy(), std::try_to_lock);
   EXPECT_TRUE(after.owns_lock());
+}
+
+// RunInTwoParts: every share's first and second part run once, and each second part only after
+// the first parts of the later shares it reads. With a worker awake (the first runs) or asleep
+// (the last ones: the caller then runs the shares no one claimed inside its own wait), with more
+// shares than threads, and without workers.
+TEST(WorkerPool, SecondPartsWaitForTheFirstPartsTheyRead) {
+  for (const int workers : {0, 1, 3}) {
+    WorkerPool pool(workers);
+    for (int run = 0; run < 600; ++run) {
+      const int shares = 1 + run % 6;
+      if (run >= 580) std::this_thread::sleep_for(std::chrono::milliseconds(3));
+      std::vector<std::atomic<int>> firsts(shares), seconds(shares);
+      std::atomic<int> early{0};
+      const auto last_read = [shares](int share) { return std::min(share + 2, shares - 1); };
+      pool.RunInTwoParts(
+          shares,
+          [&](int share) {
+            if (share == shares - 1) std::this_thread::sleep_for(std::chrono::microseconds(30));
+            firsts[share].fetch_add(1);
+          },
+          [&](int share) {
+            for (int later = share + 1; later <= last_read(share); ++later) {
+              if (firsts[later].load() != 1) early.fetch_add(1);
+            }
+            seconds[share].fetch_add(1);
+          },
+          last_read);
+      EXPECT_EQ(early.load(), 0) << workers << " workers, run " << run;
+      for (int s = 0; s < shares; ++s) {
+        ASSERT_EQ(firsts[s].load(), 1) << workers << " workers, run " << run << ", share " << s;
+        ASSERT_EQ(seconds[s].load(), 1) << workers << " workers, run " << run << ", share " << s;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -331,10 +331,11 @@ class World {
   /// `finish(share, begin, end)`, if given, runs on each share right after its kick.
   /// `drifted`: stages 1-2 were already taken (drifted_ahead_; only without kinematic groups,
   /// whose nodes it would not place), and the nodes rounded for the float loops if
-  /// rounded_ahead_.
+  /// rounded_ahead_. `rounds_ahead`: `finish` rounds every node for the next substep
+  /// (ForceEvaluator::NodeStages::rounds_ahead).
   void DriftForceAndKick(Body* body, double h, double t0,
                          const std::function<void(int, int, int)>* finish = nullptr,
-                         bool drifted = false, bool rounded = false);
+                         bool drifted = false, bool rounded = false, bool rounds_ahead = false);
   /// 4. Kinematic nodes take their frames' velocities; the change is the groups' reaction.
   void DriveKinematicGroups(Body* body, double h, double t0) const;
   /// 3-4, implicit (world_implicit.cpp): forces and gravity at (x_mid, v), then v += dv with

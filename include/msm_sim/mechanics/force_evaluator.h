@@ -139,6 +139,11 @@ class ForceEvaluator {
     /// (relative to `origin`): the single loops skip `before` and their own rounding, one
     /// hand-over between threads fewer. Precondition: RoundsNodes().
     bool rounded = false;
+    /// The `after` stages round every node with RoundNodes (relative to `origin`) for the next
+    /// SetForces, which will then have `rounded`: the single loops take that evaluation's first
+    /// pass ahead, on each share once its `after` stage and those of the shares its springs
+    /// reach have run (one hand-over between threads fewer).
+    bool rounds_ahead = false;
   };
   /// SetForces with `stages` (both set) run on each share.
   void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
@@ -224,6 +229,11 @@ class ForceEvaluator {
   SingleShare NodeShare(int t, int count) const;
   /// Runs task(t) for the shares t = 0 .. shares - 1, on the worker pool when there are several.
   static void RunShares(int shares, const std::function<void(int)>& task);
+  /// WorkerPool::RunInTwoParts on the shared pool (RunShares' fallback: all first parts, then
+  /// all second parts, on the caller).
+  static void RunSharesInTwoParts(int shares, const std::function<void(int)>& first,
+                                  const std::function<void(int)>& second,
+                                  const std::function<int(int)>& last_read);
 
   template <bool Damped>
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -286,8 +296,11 @@ class ForceEvaluator {
   Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
   std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
   SpringPrecision precision_ = SpringPrecision::kDouble;
-  bool totals_recorded_ = true;         // false after a single-precision evaluation
-  bool overwrite_forces_ = false;       // during SetForces
+  bool totals_recorded_ = true;    // false after a single-precision evaluation
+  bool overwrite_forces_ = false;  // during SetForces
+  // The last single-precision evaluation took the next one's first pass (NodeStages::
+  // rounds_ahead): J's accumulators hold it for an evaluation with NodeStages::rounded.
+  bool inflowed_ahead_ = false;
   const NodeStages* stages_ = nullptr;  // during SetForces with stages, on the single loops
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
