@@ -82,12 +82,13 @@ void ForceEvaluator::set_orientation_barrier(std::shared_ptr<const OrientationBa
 
 void ForceEvaluator::set_max_threads(int max_threads) {
   max_threads_ = std::clamp(max_threads, 1, WorkerPool::kMaxShares);
-  inflowed_ahead_ = false;  // the shares' overflows move
+  ahead_ = TakenAhead{};  // the shares' overflows move
+  share_bounds_.clear();
 }
 
 void ForceEvaluator::set_precision(SpringPrecision precision) {
   precision_ = precision;
-  inflowed_ahead_ = false;
+  ahead_ = TakenAhead{};
   if (precision == SpringPrecision::kDouble || !scheduled_) {
     single_.reset();
   } else if (!single_) {
@@ -474,8 +475,41 @@ int ForceEvaluator::SingleShares() const {
 }
 
 SingleShare ForceEvaluator::NodeShare(int t, int count) const {
+  if (static_cast<int>(share_bounds_.size()) == count + 1) {
+    return {share_bounds_[t], share_bounds_[t + 1]};
+  }
   const long long n = model_->num_nodes();
   return {static_cast<int>(n * t / count), static_cast<int>(n * (t + 1) / count)};
+}
+
+void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double busy_work) {
+  const int count = SingleShares();
+  const int n = model_->num_nodes();
+  std::vector<int> bounds;
+  if (count > 1 && !busy.empty() && busy_work > 0.0) {
+    // Node i's share of the work is 1 + busy_work per busy node; share t ends at the first node
+    // at which the work before it reaches t / count of the whole, every share keeping a node.
+    const double total = n + busy_work * static_cast<double>(busy.size());
+    bounds.assign(count + 1, n);
+    bounds[0] = 0;
+    std::size_t next_busy = 0;
+    double work = 0.0;
+    int t = 1;
+    for (int i = 0; i < n && t < count; ++i) {
+      while (t < count && work >= total * t / count) {
+        bounds[t] = std::max(i, bounds[t - 1] + 1);
+        ++t;
+      }
+      const bool is_busy = next_busy < busy.size() && busy[next_busy] == i;
+      if (is_busy) ++next_busy;
+      work += 1.0 + (is_busy ? busy_work : 0.0);
+    }
+    for (int u = count - 1; u >= 1; --u) bounds[u] = std::min(bounds[u], bounds[u + 1] - 1);
+  }
+  if (bounds != share_bounds_) {
+    share_bounds_ = std::move(bounds);
+    ahead_ = TakenAhead{};  // the shares' overflows move
+  }
 }
 
 void ForceEvaluator::RunShares(int shares, const std::function<void(int)>& task) {
@@ -549,10 +583,16 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const auto beta = static_cast<float>(damping.beta);
   const bool dispersion = model_->dispersion_fraction() != 0.0;
   const bool rounded = stages_ != nullptr && stages_->rounded;
-  // The first pass was taken ahead by the last evaluation, on these nodes (rounded since).
-  const bool inflowed = rounded && inflowed_ahead_ && dispersion;
-  inflowed_ahead_ = false;
-  const bool ahead = stages_ != nullptr && stages_->rounds_ahead && dispersion && !barrier_;
+  // What the last evaluation took ahead of this one (NodeStages::rounds_ahead), on these nodes
+  // (rounded since): the first pass of the eMSM, and the last share's part of the passes after
+  // it from node early_from on, which had that evaluation's dampers (the stages round the
+  // velocities for the next one, but only the caller knows whether its beta stays).
+  const bool taken_ahead = rounded && ahead_.taken;
+  const bool inflowed = taken_ahead && dispersion;
+  const bool same_dampers = ahead_.beta == (damping.velocities != nullptr ? beta : 0.0f);
+  const int early_from = taken_ahead && same_dampers ? ahead_.early_from : -1;
+  ahead_ = TakenAhead{};
+  const bool ahead = stages_ != nullptr && stages_->rounds_ahead && !barrier_;
   const long length = single_->max_offset;
   single_overflows_.resize(4 * length * count);
   const auto overflow = [&](int t, int block) {
@@ -617,16 +657,45 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   }
   float* j_a = single_accumulators_.data();
   float* j_b = j_a + n;
+  // The last share's nodes [early_from, n), whose plain or eMSM second pass (and dispersion)
+  // the last evaluation took ahead.
+  const auto ahead_from = [&](int t) {
+    return t == count - 1 && early_from >= 0 ? early_from : shares[t].end;
+  };
+  // A share's plain or second pass over its nodes before ahead_from; its force blocks were
+  // cleared with the part taken ahead. Bit for bit as one loop over the share: a node's b-end
+  // sum takes its slots in order of offset, and those whose a ends lie at ahead_from or above
+  // (taken first) are exactly its shorter offsets.
+  const auto force_pass = [&](int t) {
+    const int from = ahead_from(t);
+    if (from == shares[t].end) {
+      clear(t, f, 6, 0, 2);
+    } else {
+      std::fill(overflow(t, 0), overflow(t, 2) + length, 0.0f);
+    }
+    const SingleShare part{shares[t].begin, from, shares[t].end};
+    if (dispersion) {
+      SingleOutflowRuns(*single_, part, x_arrays, velocities, beta, single_dispersion_.data(),
+                        end_forces, overflow_forces(t));
+    } else {
+      SinglePlainRuns(*single_, part, x_arrays, velocities, beta, end_forces, overflow_forces(t));
+    }
+  };
   // The plain pass, or the eMSM first pass (J's accumulators).
   const auto first_pass = [&](int t) {
     if (!dispersion) {
-      clear(t, f, 6, 0, 2);
-      SinglePlainRuns(*single_, shares[t], x_arrays, velocities, beta, end_forces,
-                      overflow_forces(t));
+      force_pass(t);
       return;
     }
     clear(t, j_a, 2, 3, 3);
     SingleInflowRuns(*single_, shares[t], x_arrays, j_a, j_b, overflow(t, 3));
+  };
+  // J and g in double as well where a one-pass evaluation after this one lags on them; two
+  // passes never read them (storing them was half of SingleDispersion's time).
+  double* const lagged_j = passes_ == DispersionPasses::kOnePass ? accumulator_.data() : nullptr;
+  const auto disperse = [&](int begin, int end) {
+    SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), n, begin, end,
+                     lagged_j, dispersion_per_weight_.data(), single_dispersion_.data());
   };
 
   if (barrier_) {
@@ -639,27 +708,39 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     RunSharesInTwoParts(count, round, first_pass, last_read);
   }
   if (dispersion) {
-    // J and g in double as well where a one-pass evaluation after this one lags on them; two
-    // passes never read them (storing them was half of SingleDispersion's time).
-    const bool lag_next = passes_ == DispersionPasses::kOnePass;
-    const auto disperse = [&](int t) {
+    const auto gather_and_disperse = [&](int t) {
       GatherOverflows(overflow(0, 3), 4 * length, length, shares, t, j_b);
-      SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), n,
-                       shares[t].begin, shares[t].end, lag_next ? accumulator_.data() : nullptr,
-                       dispersion_per_weight_.data(), single_dispersion_.data());
+      disperse(shares[t].begin, ahead_from(t));
     };
-    const auto second_pass = [&](int t) {
-      clear(t, f, 6, 0, 2);
-      SingleOutflowRuns(*single_, shares[t], x_arrays, velocities, beta, single_dispersion_.data(),
-                        end_forces, overflow_forces(t));
-    };
-    RunSharesInTwoParts(count, disperse, second_pass, last_read);
+    RunSharesInTwoParts(count, gather_and_disperse, force_pass, last_read);
   }
-  if (ahead) {
-    // Each share's kick, contacts and drift, then the next evaluation's first pass on the
-    // nodes its `after` stage and the later shares' have rounded.
-    RunSharesInTwoParts(count, apply_forces, first_pass, last_read);
-    inflowed_ahead_ = true;
+  // Ahead: each share's kick, contacts and drift, then the next evaluation's eMSM first pass on
+  // the nodes its `after` stage and the later shares' have rounded. The last share, which does
+  // not wait for the first's contacts (a resting block's ground contacts, CutNodeShares), also
+  // takes the passes after it for its nodes beyond the first share's count, which the cut gave
+  // it for those contacts, and beyond the earlier shares' overflows (it has their J complete):
+  // the first share's contacts and those nodes are then done at the same time.
+  const int last = count - 1;
+  const int nodes = static_cast<int>(n);
+  const int extra = (shares[last].end - shares[last].begin) - (shares[0].end - shares[0].begin);
+  const int from = std::max(shares[last].begin + static_cast<int>(length), nodes - extra);
+  const bool early = ahead && count > 1 && from < nodes;
+  if (ahead && (dispersion || early)) {
+    const auto next_passes = [&](int t) {
+      if (dispersion) first_pass(t);
+      if (!early || t != last) return;
+      if (dispersion) disperse(from, nodes);
+      clear(t, f, 6, 0, 2);
+      const SingleShare part{from, nodes, nodes};
+      if (dispersion) {
+        SingleOutflowRuns(*single_, part, x_arrays, velocities, beta, single_dispersion_.data(),
+                          end_forces, overflow_forces(t));
+      } else {
+        SinglePlainRuns(*single_, part, x_arrays, velocities, beta, end_forces, overflow_forces(t));
+      }
+    };
+    RunSharesInTwoParts(count, apply_forces, next_passes, last_read);
+    ahead_ = {true, early ? from : -1, velocities != nullptr ? beta : 0.0f};
   } else {
     RunShares(count, apply_forces);
   }

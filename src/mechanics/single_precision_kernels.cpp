@@ -102,14 +102,14 @@ inline const float* From(const float* array, int a0) {
 }
 
 // Calls part(a, count, beyond) for the slots of `run` in `share`: first those whose b ends lie
-// below share.end (beyond false), then those whose b ends lie at share.end or past it (true).
+// below share.limit (beyond false), then those whose b ends lie at share.limit or past it (true).
 template <typename Part>
 inline __attribute__((always_inline)) void ForRunInShare(const SingleRun& run,
                                                          const SingleShare& share, Part&& part) {
   const int lo = std::max(run.a0, share.begin);
   const int hi = std::min(run.a0 + run.count, share.end);
   if (lo >= hi) return;
-  const int split = std::clamp(share.end - run.offset, lo, hi);
+  const int split = std::clamp(share.limit - run.offset, lo, hi);
   if (split > lo) part(lo, split - lo, false);
   if (hi > split) part(split, hi - split, true);
 }
@@ -174,7 +174,7 @@ inline __attribute__((always_inline)) void ForcesImpl(
   const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
   for (const SingleRun& run : springs.runs) {
     ForRunInShare(run, share, [&](int a, int count, bool beyond) {
-      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.end;
+      const int b = a + run.offset, f = run.first + (a - run.a0), end = share.limit;
       ForceRun<Damped, Dispersed>(count, run.offset, positions.x + a, positions.y + a,
                                   positions.z + a, From(v.x, a), From(v.y, a), From(v.z, a), beta,
                                   From(g, a), springs.stiffness.data() + f, springs.rest.data() + f,
@@ -293,7 +293,7 @@ void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& 
       const int b = a + run.offset, f = run.first + (a - run.a0);
       InflowRun(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
                 springs.rest.data() + f, springs.outflow_a.data() + f, springs.outflow_b.data() + f,
-                j_a + a, BEnd(j_b, j_b_overflow, b, share.end, beyond));
+                j_a + a, BEnd(j_b, j_b_overflow, b, share.limit, beyond));
     });
   }
 }

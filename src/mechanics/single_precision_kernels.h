@@ -72,10 +72,13 @@ struct SingleEndForces {
 /// the a ends' sums (forces, accumulators) of its own nodes only, and the b ends' of its own
 /// nodes, except that b ends at node `end` or beyond go to the share's overflow (index 0 at node
 /// `end`, at most the schedule's largest offset long). Disjoint shares therefore write disjoint
-/// memory, and one share [0, n) takes every slot, its overflow never written (b < n).
+/// memory, and one share [0, n) takes every slot, its overflow never written (b < n). `limit`
+/// (default `end`) moves where the overflow starts: the nodes [begin, end) of a share that owns
+/// the nodes up to `limit`, its b ends below `limit` written in place.
 struct SingleShare {
   int begin;
   int end;
+  int limit = end;
 };
 
 // The loops take a share. `velocities` null: no dampers; else dampers of tension beta k dL/dt.

@@ -368,9 +368,10 @@ struct OnePassRun {
   std::vector<ContactWrench> wrenches;
   int microcollisions = 0;
 };
-OnePassRun RunOnePassScene(int threads, bool far_body) {
+OnePassRun RunOnePassScene(int threads, bool far_body, bool cut_shares = false) {
   WorldOptions options;
   options.threads = threads;
+  options.cut_shares_at_contacts = cut_shares;
   World world(options);
   const int body = AddBlockAboveGround(&world);
   const Model& block = world.model(body);
@@ -421,6 +422,25 @@ TEST(World, ASubstepInOnePassGivesTheStageByStageResults) {
     EXPECT_GT(fused.wrenches[1].normal_force, 0.0) << threads;
     EXPECT_GT(fused.microcollisions, 0) << threads;
   }
+}
+
+// WorldOptions::cut_shares_at_contacts (on by default): on two threads the one-pass substeps
+// of a block resting on the ground run in shares cut at its contacts, which moves where the
+// float sums meet: the motion repeats to the bit, differs from equal shares' in its rounding
+// only, and one thread has nothing to cut.
+TEST(World, SharesCutAtContactsChangeTheRoundingOnly) {
+  const OnePassRun cut = RunOnePassScene(2, false, true);
+  const OnePassRun again = RunOnePassScene(2, false, true);
+  const OnePassRun equal = RunOnePassScene(2, false, false);
+  EXPECT_EQ(cut.positions, again.positions);
+  EXPECT_EQ(cut.velocities, again.velocities);
+  EXPECT_NE(cut.positions, equal.positions) << "no cut on two threads";
+  const double moved = (cut.positions - equal.positions).cwiseAbs().maxCoeff();
+  std::printf("  largest position difference, cut against equal shares: %.3g m\n", moved);
+  EXPECT_LT(moved, 1e-7);
+  EXPECT_NEAR(cut.wrenches[0].normal_force, equal.wrenches[0].normal_force,
+              1e-4 * std::abs(equal.wrenches[0].normal_force));
+  EXPECT_EQ(RunOnePassScene(1, false, true).positions, RunOnePassScene(1, false, false).positions);
 }
 
 // The step's rollback copy is taken per node share, each on its share's thread

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <stdexcept>
 #include <utility>
 
@@ -310,20 +311,35 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
 
 // NodeStages::rounds_ahead: the `after` stages round the nodes where the next evaluation will
 // find them, and the loops take that evaluation's first pass ahead, each share once the shares
-// its springs reach have rounded theirs. The next evaluation (NodeStages::rounded) gives the
-// forces of one at those positions from scratch, to the bit, on one and two threads and on four
-// shares shorter than a layer (whose springs reach two shares on); this one's forces are not
-// disturbed, and an evaluation without `rounded` after it does not take the pass taken ahead.
+// its springs reach have rounded theirs (and, on shares cut unequal, the last share's part of
+// the passes after it, or of the plain pass). The next evaluation (NodeStages::rounded) gives
+// the forces of one at those positions from scratch, to the bit, on one and two threads and on
+// four shares shorter than a layer (whose springs reach two shares on); this one's forces are
+// not disturbed, and an evaluation without `rounded`, or with other dampers, after it does not
+// take what was taken ahead.
 TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces) {
   CubicLatticeOptions slab;
   slab.size = Eigen::Vector3d(0.4, 0.4, 0.02);
   slab.spacing = 0.01;
   const Model block = Block(0.45, 0.0035);
+  const Model plain = Block(0.25, 0.0035);  // no dispersion: the plain pass
+  ASSERT_EQ(plain.dispersion_fraction(), 0.0);
   const Model thin = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), slab);
   ASSERT_LT(thin.num_nodes() / 4, 40 * 40);  // a share is shorter than a layer
   const double origin[3] = {0.013, -0.002, 0.007};
-  for (const auto& [model, threads] :
-       {std::pair<const Model*, int>{&block, 1}, {&block, 2}, {&thin, 4}}) {
+  // Shares cut with the first 400 nodes busy (CutNodeShares): the last share is then longer than
+  // the first and takes its extra nodes' dispersion and second pass ahead too.
+  std::vector<NodeIndex> busy(400);
+  std::iota(busy.begin(), busy.end(), 0);
+  struct Case {
+    const Model* model;
+    int threads;
+    bool cut;
+  };
+  for (const Case& c : {Case{&block, 1, false}, Case{&block, 2, false}, Case{&block, 2, true},
+                        Case{&plain, 2, true}, Case{&thin, 4, false}, Case{&thin, 4, true}}) {
+    const Model* model = c.model;
+    const int threads = c.threads;
     ASSERT_GE(model->num_nodes(), 1'000);
     const int n = model->num_nodes();
     const Eigen::Matrix3Xd x = Perturbed(model->rest_positions(), 2.5e-4, 30);
@@ -335,14 +351,25 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     ForceEvaluator ahead(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
     own.set_precision(SpringPrecision::kSingle);
     ahead.set_precision(SpringPrecision::kSingle);
+    if (c.cut) {
+      own.CutNodeShares(busy, 2.0);
+      ahead.CutNodeShares(busy, 2.0);
+      int first = 0, last = 0;
+      ahead.ForEachNodeShare([&](int share, int begin, int end) {
+        if (share == 0) first = end - begin;
+        if (share == threads - 1) last = end - begin;
+      });
+      ASSERT_GT(last, first + 100) << threads;
+    }
     ForceEvaluator::NodeStages plain;
     plain.before = [](int, int, int) {};
     plain.after = [](int, int, int) {};
     plain.origin = origin;
-    Eigen::Matrix3Xd expected, expected_next, expected_later;
+    Eigen::Matrix3Xd expected, expected_next, expected_later, expected_other_dampers;
     own.SetForces(x, v, 1e-3, &expected, plain);
     own.SetForces(next_x, next_v, 1e-3, &expected_next, plain);
     own.SetForces(later_x, v, 1e-3, &expected_later, plain);
+    own.SetForces(next_x, next_v, 2e-3, &expected_other_dampers, plain);
 
     Eigen::Matrix3Xd now(3, n), unused, next, later;
     std::atomic<int> rounded_nodes{0};
@@ -368,7 +395,50 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     EXPECT_NE(next, expected) << "the nodes moved";
     ahead.SetForces(later_x, v, 1e-3, &later, plain);
     EXPECT_EQ(later, expected_later) << threads;
+    // The part taken ahead had this evaluation's dampers: with others next, it is taken again.
+    ahead.SetForces(x, v, 1e-3, &unused, first);
+    Eigen::Matrix3Xd other_dampers;
+    ahead.SetForces(next_x, next_v, 2e-3, &other_dampers, second);
+    EXPECT_EQ(other_dampers, expected_other_dampers) << threads;
   }
+}
+
+// CutNodeShares: shares of equal work, a busy node counting 1 + busy_work; without busy nodes
+// the equal shares of before. Every share keeps a node however the work falls.
+TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
+  const Model model = Block(0.45, 0.0035);
+  const int n = model.num_nodes();
+  ASSERT_GE(n, 1'000);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, 3);
+  evaluator.set_precision(SpringPrecision::kSingle);
+  const auto bounds = [&] {
+    std::vector<int> ends;
+    evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+      EXPECT_EQ(begin, share == 0 ? 0 : ends.back()) << share;
+      EXPECT_LT(begin, end) << share;
+      ends.push_back(end);
+    });
+    return ends;
+  };
+  const std::vector<int> equal = bounds();
+  EXPECT_EQ(equal, (std::vector<int>{n / 3, 2 * n / 3, n}));
+  std::vector<NodeIndex> busy(300);
+  std::iota(busy.begin(), busy.end(), 100);  // nodes 100 .. 399
+  evaluator.CutNodeShares(busy, 2.0);
+  const std::vector<int> cut = bounds();
+  const double total = n + 2.0 * 300;
+  const auto work_before = [&](int node) { return node + 2.0 * std::clamp(node - 100, 0, 300); };
+  for (int t = 0; t < 2; ++t) {
+    EXPECT_NEAR(work_before(cut[t]), total * (t + 1) / 3, 3.0) << t;
+  }
+  EXPECT_EQ(cut[2], n);
+  evaluator.CutNodeShares({}, 2.0);
+  EXPECT_EQ(bounds(), equal);
+  std::vector<NodeIndex> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  evaluator.CutNodeShares(std::vector<NodeIndex>(all.begin(), all.begin() + 2), 1e9);
+  const std::vector<int> lopsided = bounds();  // the EXPECT_LTs above: no share left empty
+  EXPECT_EQ(lopsided[0], 1);
 }
 
 // NodeStages::after_unstored gets the forces SetForces would have stored, to the bit, for every

@@ -333,6 +333,12 @@ class World {
   /// whose nodes it would not place), and the nodes rounded for the float loops if
   /// rounded_ahead_. `rounds_ahead`: `finish` rounds every node for the next substep
   /// (ForceEvaluator::NodeStages::rounds_ahead).
+  /// At a Step's start: cuts the body's node shares at equal work, counting the work of the
+  /// border nodes the last contact stage found near a collider (ForceEvaluator::CutNodeShares),
+  /// or, without `cut`, into equal shares.
+  void CutNodeSharesAtContacts(Body* body, bool cut) const;
+  /// The fewest substeps in a Step for CutNodeSharesAtContacts to cut at the contacts.
+  static constexpr int kSubstepsToCutAtContacts = 4;
   void DriftForceAndKick(Body* body, double h, double t0,
                          const std::function<void(int, int, int)>* finish = nullptr,
                          bool drifted = false, bool rounded = false, bool rounds_ahead = false);

@@ -77,6 +77,14 @@ struct WorldOptions {
   /// 0.87-0.95x of one thread's speed while another process kept a core busy. Results are
   /// deterministic for a given thread count.
   int threads = 1;
+  /// With threads > 1, a Step of a single explicit body (no kinematic groups, no self-collision)
+  /// in World::kSubstepsToCutAtContacts substeps or more cuts the body's node shares at equal
+  /// work, counting what the contact stage costs for the border nodes near a collider at the
+  /// Step's start (World::CutNodeSharesAtContacts; docs/physics.md §9): a block resting on the
+  /// ground keeps its contacts in its first share. The cut moves where the shares' float sums
+  /// meet, so results on several threads then depend, deterministically, on those contacts too.
+  /// false: equal shares always.
+  bool cut_shares_at_contacts = true;
   /// The arithmetic of each body's spring loops in the dynamics (ForceEvaluator::set_precision).
   /// kSingle (the default) runs cubic lattices' springs in single precision, which made the
   /// realtime block's steps 1.5-1.8x faster; a spring's strain is then resolved to about

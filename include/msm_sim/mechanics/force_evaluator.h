@@ -153,6 +153,13 @@ class ForceEvaluator {
   void ForEachNodeShare(const std::function<void(int, int, int)>& task);
   /// The number of shares ForEachNodeShare runs.
   int NumNodeShares() const;
+  /// Cuts the node shares of the single loops at equal work, a node counting 1 and each node
+  /// of `busy` (sorted, distinct, each < the model's nodes) 1 + `busy_work` (>= 0): a share's
+  /// thread also runs its nodes' stages (NodeStages), and a node in contact costs the contact
+  /// stage about as much again as its springs and stages. Without busy nodes the shares are
+  /// equal. The cut moves where the float sums meet at share boundaries (their rounding; still
+  /// a function of the shares only); call it between evaluations, not from a stage.
+  void CutNodeShares(const std::vector<NodeIndex>& busy, double busy_work);
   /// Whether the next SetForces takes the single-precision loops, whose node arrays RoundNodes
   /// fills.
   bool RoundsNodes() const { return UsesSingleLoops(); }
@@ -298,9 +305,18 @@ class ForceEvaluator {
   SpringPrecision precision_ = SpringPrecision::kDouble;
   bool totals_recorded_ = true;    // false after a single-precision evaluation
   bool overwrite_forces_ = false;  // during SetForces
-  // The last single-precision evaluation took the next one's first pass (NodeStages::
-  // rounds_ahead): J's accumulators hold it for an evaluation with NodeStages::rounded.
-  bool inflowed_ahead_ = false;
+  // What the last single-precision evaluation took ahead of the next (NodeStages::
+  // rounds_ahead), for one with NodeStages::rounded: the eMSM first pass (J's accumulators), and
+  // on two shares or more the last share's part of the passes after it from node early_from on
+  // (-1: none), with dampers of that beta (0: none).
+  struct TakenAhead {
+    bool taken = false;
+    int early_from = -1;
+    float beta = 0.0f;
+  };
+  TakenAhead ahead_;
+  // The single loops' share boundaries (CutNodeShares; empty: equal shares).
+  std::vector<int> share_bounds_;
   const NodeStages* stages_ = nullptr;  // during SetForces with stages, on the single loops
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
