@@ -529,11 +529,13 @@ void ForceEvaluator::RunShares(int shares, const std::function<void(int)>& task)
 void ForceEvaluator::RunSharesInTwoParts(int shares, const std::function<void(int)>& first,
                                          const std::function<void(int)>& second,
                                          const std::function<int(int)>& last_read) {
-  WorkerPool& pool = WorkerPool::Shared();
-  std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
-  if (shares > 1 && lock.owns_lock()) {
-    pool.RunInTwoParts(shares, first, second, last_read);
-    return;
+  if (shares > 1) {
+    WorkerPool& pool = WorkerPool::Shared();
+    std::unique_lock<std::mutex> lock(pool.busy(), std::try_to_lock);
+    if (lock.owns_lock()) {
+      pool.RunInTwoParts(shares, first, second, last_read);
+      return;
+    }
   }
   for (int t = 0; t < shares; ++t) first(t);
   for (int t = 0; t < shares; ++t) second(t);
