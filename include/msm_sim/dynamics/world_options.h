@@ -75,7 +75,7 @@ struct WorldOptions {
   /// the double loops of bodies of 50,000 springs or more on up to this many (ForceEvaluator).
   /// One by default: two ran a 4,000-node step 1.37x faster on an idle 2-core machine, but at
   /// 0.87-0.95x of one thread's speed while another process kept a core busy. Results are
-  /// deterministic for a given thread count.
+  /// deterministic for a given thread count (and contacts, see cut_shares_at_contacts).
   int threads = 1;
   /// With threads > 1, a Step of a single explicit body (no kinematic groups, no self-collision)
   /// in World::kSubstepsToCutAtContacts substeps or more cuts the body's node shares at equal
