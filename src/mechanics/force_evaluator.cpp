@@ -78,6 +78,7 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, Spri
 
 void ForceEvaluator::set_orientation_barrier(std::shared_ptr<const OrientationBarrier> barrier) {
   barrier_ = std::move(barrier);
+  ahead_ = TakenAhead{};
 }
 
 void ForceEvaluator::set_max_threads(int max_threads) {
@@ -668,6 +669,15 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   // cleared with the part taken ahead. Bit for bit as one loop over the share: a node's b-end
   // sum takes its slots in order of offset, and those whose a ends lie at ahead_from or above
   // (taken first) are exactly its shorter offsets.
+  // The forces of the slots in `part` of share t: the plain pass, or the eMSM second pass.
+  const auto spring_forces = [&](int t, const SingleShare& part) {
+    if (dispersion) {
+      SingleOutflowRuns(*single_, part, x_arrays, velocities, beta, single_dispersion_.data(),
+                        end_forces, overflow_forces(t));
+    } else {
+      SinglePlainRuns(*single_, part, x_arrays, velocities, beta, end_forces, overflow_forces(t));
+    }
+  };
   const auto force_pass = [&](int t) {
     const int from = ahead_from(t);
     if (from == shares[t].end) {
@@ -675,13 +685,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     } else {
       std::fill(overflow(t, 0), overflow(t, 2) + length, 0.0f);
     }
-    const SingleShare part{shares[t].begin, from, shares[t].end};
-    if (dispersion) {
-      SingleOutflowRuns(*single_, part, x_arrays, velocities, beta, single_dispersion_.data(),
-                        end_forces, overflow_forces(t));
-    } else {
-      SinglePlainRuns(*single_, part, x_arrays, velocities, beta, end_forces, overflow_forces(t));
-    }
+    spring_forces(t, SingleShare{shares[t].begin, from, shares[t].end});
   };
   // The plain pass, or the eMSM first pass (J's accumulators).
   const auto first_pass = [&](int t) {
@@ -733,13 +737,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       if (!early || t != last) return;
       if (dispersion) disperse(from, nodes);
       clear(t, f, 6, 0, 2);
-      const SingleShare part{from, nodes, nodes};
-      if (dispersion) {
-        SingleOutflowRuns(*single_, part, x_arrays, velocities, beta, single_dispersion_.data(),
-                          end_forces, overflow_forces(t));
-      } else {
-        SinglePlainRuns(*single_, part, x_arrays, velocities, beta, end_forces, overflow_forces(t));
-      }
+      spring_forces(t, SingleShare{from, nodes, nodes});
     };
     RunSharesInTwoParts(count, apply_forces, next_passes, last_read);
     ahead_ = {true, early ? from : -1, velocities != nullptr ? beta : 0.0f};

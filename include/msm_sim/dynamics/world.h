@@ -325,6 +325,12 @@ class World {
   static void AddPushes(Body* body, int begin, int end);
   /// 4. v += h (F / m + g) for nodes [begin, end). Precondition: their forces of this substep.
   void Kick(Body* body, double h, int begin, int end) const;
+  /// At a Step's start: cuts the body's node shares at equal work, counting the work of the
+  /// border nodes the last contact stage found near a collider (ForceEvaluator::CutNodeShares),
+  /// or, without `cut`, into equal shares.
+  void CutNodeSharesAtContacts(Body* body, bool cut) const;
+  /// The fewest substeps in a Step for CutNodeSharesAtContacts to cut at the contacts.
+  static constexpr int kSubstepsToCutAtContacts = 4;
   /// 1-4 of the explicit integrator: each node share of the body's force loops drifts, places
   /// its kinematic nodes and applies its pending restitution, then, once its forces are set,
   /// adds its pushes and kicks, all on the share's thread (ForceEvaluator::NodeStages).
@@ -333,12 +339,6 @@ class World {
   /// whose nodes it would not place), and the nodes rounded for the float loops if
   /// rounded_ahead_. `rounds_ahead`: `finish` rounds every node for the next substep
   /// (ForceEvaluator::NodeStages::rounds_ahead).
-  /// At a Step's start: cuts the body's node shares at equal work, counting the work of the
-  /// border nodes the last contact stage found near a collider (ForceEvaluator::CutNodeShares),
-  /// or, without `cut`, into equal shares.
-  void CutNodeSharesAtContacts(Body* body, bool cut) const;
-  /// The fewest substeps in a Step for CutNodeSharesAtContacts to cut at the contacts.
-  static constexpr int kSubstepsToCutAtContacts = 4;
   void DriftForceAndKick(Body* body, double h, double t0,
                          const std::function<void(int, int, int)>* finish = nullptr,
                          bool drifted = false, bool rounded = false, bool rounds_ahead = false);
