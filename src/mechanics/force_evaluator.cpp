@@ -358,12 +358,18 @@ void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
 void ForceEvaluator::RoundNodes(const Eigen::Matrix3Xd& positions,
                                 const Eigen::Matrix3Xd* velocities, int begin, int end,
                                 const double origin[3]) {
+  RoundNodeRange(positions.data(), velocities != nullptr ? velocities->data() : nullptr, begin, end,
+                 origin);
+}
+
+void ForceEvaluator::RoundNodeRange(const double* positions, const double* velocities, int begin,
+                                    int end, const double origin[3]) {
   const Eigen::Index n = model_->num_nodes();
   float* x = single_nodes_.data();
-  ToSingleNodeArrays(positions.data(), n, begin, end, origin, x);
+  ToSingleNodeArrays(positions, n, begin, end, origin, x);
   if (velocities != nullptr) {
     const double zero[3] = {0.0, 0.0, 0.0};
-    ToSingleNodeArrays(velocities->data(), n, begin, end, zero, x + 3 * n);
+    ToSingleNodeArrays(velocities, n, begin, end, zero, x + 3 * n);
   }
 }
 
@@ -613,11 +619,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     if (rounded) return;
     const SingleShare& share = shares[t];
     if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
-    ToSingleNodeArrays(positions.data(), n, share.begin, share.end, origin, x);
-    if (damping.velocities != nullptr) {
-      const double zero[3] = {0.0, 0.0, 0.0};
-      ToSingleNodeArrays(damping.velocities, n, share.begin, share.end, zero, v);
-    }
+    RoundNodeRange(positions.data(), damping.velocities, share.begin, share.end, origin);
   };
   const SingleEndForces end_forces{{f, f + n, f + 2 * n}, {f + 3 * n, f + 4 * n, f + 5 * n}};
   // Zeroes share t's nodes in `blocks` consecutive blocks of n from `nodes`, and its overflows

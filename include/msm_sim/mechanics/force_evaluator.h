@@ -224,6 +224,9 @@ class ForceEvaluator {
   /// The same in single precision (SpringPrecision::kSingle).
   void AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                         Eigen::Matrix3Xd* forces);
+  /// RoundNodes from raw node arrays (velocities null: no dampers).
+  void RoundNodeRange(const double* positions, const double* velocities, int begin, int end,
+                      const double origin[3]);
   // Models with at least this many nodes split the single-precision loops into max_threads_
   // node shares (SingleShare), which write disjoint memory: nothing to zero or add per thread
   // but the short overflows past each share's last node.
