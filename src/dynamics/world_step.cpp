@@ -107,21 +107,23 @@ void KickNodes(int n, double h, const double* forces, const double* inverse_mass
 }
 
 // KickNodes for nodes [begin, end) with the forces as the single-precision loops leave them
-// (ForceEvaluator::NodeStages::after_unstored): node i's force is the double sum of its a- and
+// (ForceEvaluator::NodeStages::after_unstored: x, y, z blocks of the a ends, then of the b ends,
+// `stride` floats apart): node i's force is the double sum of its a- and
 // b-end floats, which StoreSingleEndForces would have stored for KickNodes to read back. The
 // same arithmetic, without that round trip through memory.
 MSM_SIM_SIMD_CLONES
-void KickNodesFromEndForces(long n, long begin, long end, double h, const float* end_forces,
+void KickNodesFromEndForces(long stride, long begin, long end, double h, const float* end_forces,
                             const double* inverse_masses, const double g[3], double* velocities) {
   const float* __restrict a = end_forces;
-  const float* __restrict b = end_forces + 3 * n;
+  const float* __restrict b = end_forces + 3 * stride;
   const double* __restrict inverse_mass = inverse_masses;
   double* __restrict v = velocities;
   const double hg[3] = {h * g[0], h * g[1], h * g[2]};
   for (long i = begin; i < end; ++i) {
     const double scale = h * inverse_mass[i];
     for (long d = 0; d < 3; ++d) {
-      const double f = static_cast<double>(a[d * n + i]) + static_cast<double>(b[d * n + i]);
+      const double f =
+          static_cast<double>(a[d * stride + i]) + static_cast<double>(b[d * stride + i]);
       v[3 * i + d] += scale * f + hg[d];
     }
   }
@@ -524,8 +526,8 @@ void World::DriftForceAndKick(Body* body, double h, double t0,
     // Without pushes the kick takes the springs' forces as the float loops leave them (body->
     // forces is not written): the same sums, one pass over the nodes instead of two.
     stages.after_unstored = [this, body, h, finish](int share, int begin, int end,
-                                                    const float* end_forces, long n) {
-      KickNodesFromEndForces(n, begin, end, h, end_forces, body->inverse_masses.data(),
+                                                    const float* end_forces, long stride) {
+      KickNodesFromEndForces(stride, begin, end, h, end_forces, body->inverse_masses.data(),
                              options_.gravity.data(), body->state.velocities.data());  // 3-4
       if (finish != nullptr) (*finish)(share, begin, end);
     };

@@ -364,12 +364,12 @@ void ForceEvaluator::RoundNodes(const Eigen::Matrix3Xd& positions,
 
 void ForceEvaluator::RoundNodeRange(const double* positions, const double* velocities, int begin,
                                     int end, const double origin[3]) {
-  const Eigen::Index n = model_->num_nodes();
+  const Eigen::Index stride = SingleStride();
   float* x = single_nodes_.data();
-  ToSingleNodeArrays(positions, n, begin, end, origin, x);
+  ToSingleNodeArrays(positions, stride, begin, end, origin, x);
   if (velocities != nullptr) {
     const double zero[3] = {0.0, 0.0, 0.0};
-    ToSingleNodeArrays(velocities, n, begin, end, zero, x + 3 * n);
+    ToSingleNodeArrays(velocities, stride, begin, end, zero, x + 3 * stride);
   }
 }
 
@@ -481,12 +481,29 @@ int ForceEvaluator::SingleShares() const {
   return model_->num_nodes() >= kParallelSingleNodes ? max_threads_ : 1;
 }
 
+Eigen::Index ForceEvaluator::SingleStride() const {
+  constexpr Eigen::Index kLine = kCacheLineBytes / sizeof(float);
+  return (model_->num_nodes() + kLine - 1) / kLine * kLine;
+}
+
+namespace {
+
+// Share t's first node of `count` equal shares of n nodes: a multiple of the runs' alignment
+// (a share's loops start there), 0 for the first, n after the last.
+int EqualShareBound(long long n, int t, int count) {
+  if (t == count) return static_cast<int>(n);
+  const long long bound = n * t / count;
+  return static_cast<int>(bound - bound % SinglePrecisionSprings::kAlignment);
+}
+
+}  // namespace
+
 SingleShare ForceEvaluator::NodeShare(int t, int count) const {
   if (static_cast<int>(share_bounds_.size()) == count + 1) {
     return {share_bounds_[t], share_bounds_[t + 1]};
   }
   const long long n = model_->num_nodes();
-  return {static_cast<int>(n * t / count), static_cast<int>(n * (t + 1) / count)};
+  return {EqualShareBound(n, t, count), EqualShareBound(n, t + 1, count)};
 }
 
 void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double busy_work) {
@@ -495,7 +512,10 @@ void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double bu
   std::vector<int> bounds;
   if (count > 1 && !busy.empty() && busy_work > 0.0) {
     // Node i's share of the work is 1 + busy_work per busy node; share t ends at the first node
-    // at which the work before it reaches t / count of the whole, every share keeping a node.
+    // at which the work before it reaches t / count of the whole, rounded down to the runs'
+    // alignment (EqualShareBound), every share keeping some nodes.
+    constexpr int kAlign = SinglePrecisionSprings::kAlignment;
+    const auto align_down = [](int i) { return i - i % kAlign; };
     const double total = n + busy_work * static_cast<double>(busy.size());
     bounds.assign(count + 1, n);
     bounds[0] = 0;
@@ -504,14 +524,16 @@ void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double bu
     int t = 1;
     for (int i = 0; i < n && t < count; ++i) {
       while (t < count && work >= total * t / count) {
-        bounds[t] = std::max(i, bounds[t - 1] + 1);
+        bounds[t] = std::max(align_down(i), bounds[t - 1] + kAlign);
         ++t;
       }
       const bool is_busy = next_busy < busy.size() && busy[next_busy] == i;
       if (is_busy) ++next_busy;
       work += 1.0 + (is_busy ? busy_work : 0.0);
     }
-    for (int u = count - 1; u >= 1; --u) bounds[u] = std::min(bounds[u], bounds[u + 1] - 1);
+    for (int u = count - 1; u >= 1; --u) {
+      bounds[u] = std::min(bounds[u], align_down(bounds[u + 1] - 1));
+    }
   }
   if (bounds != share_bounds_) {
     share_bounds_ = std::move(bounds);
@@ -570,10 +592,11 @@ void GatherOverflows(const float* overflows, long stride, long length,
 void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                       Eigen::Matrix3Xd* forces) {
   const Eigen::Index n = model_->num_nodes();
-  single_nodes_.resize(12 * n);
+  const Eigen::Index stride = SingleStride();  // between blocks of n
+  single_nodes_.resize(12 * stride);
   float* x = single_nodes_.data();
-  float* v = x + 3 * n;
-  float* f = x + 6 * n;
+  float* v = x + 3 * stride;
+  float* f = x + 6 * stride;
   // Node shares, each with an overflow of max_offset floats for each of the b ends' x, y, z
   // forces and J_b.
   const int count = SingleShares();
@@ -586,8 +609,8 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const double origin[3] = {given != nullptr ? given[0] : positions(0, 0),
                             given != nullptr ? given[1] : positions(1, 0),
                             given != nullptr ? given[2] : positions(2, 0)};
-  const SingleNodeArrays x_arrays{x, x + n, x + 2 * n};
-  const SingleNodeArrays v_arrays{v, v + n, v + 2 * n};
+  const SingleNodeArrays x_arrays{x, x + stride, x + 2 * stride};
+  const SingleNodeArrays v_arrays{v, v + stride, v + 2 * stride};
   const SingleNodeArrays* velocities = damping.velocities != nullptr ? &v_arrays : nullptr;
   const auto beta = static_cast<float>(damping.beta);
   const bool dispersion = model_->dispersion_fraction() != 0.0;
@@ -603,9 +626,11 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   ahead_ = TakenAhead{};
   const bool ahead = stages_ != nullptr && stages_->rounds_ahead && !barrier_;
   const long length = single_->max_offset;
-  single_overflows_.resize(4 * length * count);
+  constexpr long kLine = kCacheLineBytes / sizeof(float);
+  const long overflow_stride = (length + kLine - 1) / kLine * kLine;  // blocks start a line
+  single_overflows_.resize(4 * overflow_stride * count);
   const auto overflow = [&](int t, int block) {
-    return single_overflows_.data() + 4 * length * t + length * block;
+    return single_overflows_.data() + 4 * overflow_stride * t + overflow_stride * block;
   };
   // The last share whose nodes share t's spring loops read (b = a + d, d <= max_offset): its
   // second parts wait for those shares' first parts only (RunSharesInTwoParts).
@@ -621,29 +646,30 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     if (stages_ != nullptr) stages_->before(t, share.begin, share.end);
     RoundNodeRange(positions.data(), damping.velocities, share.begin, share.end, origin);
   };
-  const SingleEndForces end_forces{{f, f + n, f + 2 * n}, {f + 3 * n, f + 4 * n, f + 5 * n}};
-  // Zeroes share t's nodes in `blocks` consecutive blocks of n from `nodes`, and its overflows
+  const SingleEndForces end_forces{{f, f + stride, f + 2 * stride},
+                                   {f + 3 * stride, f + 4 * stride, f + 5 * stride}};
+  // Zeroes share t's nodes in `blocks` consecutive node blocks from `nodes`, and its overflows
   // `first` .. `last`.
   const auto clear = [&](int t, float* nodes, int blocks, int first, int last) {
     const SingleShare& share = shares[t];
     for (int b = 0; b < blocks; ++b) {
-      std::fill(nodes + b * n + share.begin, nodes + b * n + share.end, 0.0f);
+      std::fill(nodes + b * stride + share.begin, nodes + b * stride + share.end, 0.0f);
     }
     std::fill(overflow(t, first), overflow(t, last) + length, 0.0f);
   };
   const auto apply_forces = [&](int t) {
     for (int d = 0; d < 3; ++d) {
-      GatherOverflows(overflow(0, d), 4 * length, length, shares, t, f + (3 + d) * n);
+      GatherOverflows(overflow(0, d), 4 * overflow_stride, length, shares, t, f + (3 + d) * stride);
     }
     const SingleShare& share = shares[t];
     if (stages_ != nullptr && stages_->after_unstored && !barrier_) {
-      stages_->after_unstored(t, share.begin, share.end, f, n);
+      stages_->after_unstored(t, share.begin, share.end, f, stride);
       return;
     }
     if (overwrite_forces_) {
-      StoreSingleEndForces(f, n, share.begin, share.end, forces->data());
+      StoreSingleEndForces(f, stride, share.begin, share.end, forces->data());
     } else {
-      AddSingleEndForces(f, n, share.begin, share.end, forces->data());
+      AddSingleEndForces(f, stride, share.begin, share.end, forces->data());
     }
     if (barrier_) {
       forces->middleCols(share.begin, share.end - share.begin) +=
@@ -655,13 +681,13 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     return MutableSingleNodeArrays{overflow(t, 0), overflow(t, 1), overflow(t, 2)};
   };
   if (dispersion) {
-    single_accumulators_.resize(2 * n);
+    single_accumulators_.resize(2 * stride);
     accumulator_.resize(n);
     dispersion_per_weight_.resize(n);
     single_dispersion_.resize(n);
   }
   float* j_a = single_accumulators_.data();
-  float* j_b = j_a + n;
+  float* j_b = j_a + stride;
   // The last share's nodes [early_from, n), whose plain or eMSM second pass (and dispersion)
   // the last evaluation took ahead.
   const auto ahead_from = [&](int t) {
@@ -702,8 +728,8 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   // passes never read them (storing them was half of SingleDispersion's time).
   double* const lagged_j = passes_ == DispersionPasses::kOnePass ? accumulator_.data() : nullptr;
   const auto disperse = [&](int begin, int end) {
-    SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), n, begin, end,
-                     lagged_j, dispersion_per_weight_.data(), single_dispersion_.data());
+    SingleDispersion(j_a, model_->dispersion_fraction(), inverse_star_weight_.data(), stride, begin,
+                     end, lagged_j, dispersion_per_weight_.data(), single_dispersion_.data());
   };
 
   if (barrier_) {
@@ -717,7 +743,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   }
   if (dispersion) {
     const auto gather_and_disperse = [&](int t) {
-      GatherOverflows(overflow(0, 3), 4 * length, length, shares, t, j_b);
+      GatherOverflows(overflow(0, 3), 4 * overflow_stride, length, shares, t, j_b);
       disperse(shares[t].begin, ahead_from(t));
     };
     RunSharesInTwoParts(count, gather_and_disperse, force_pass, last_read);
@@ -731,7 +757,9 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const int last = count - 1;
   const int nodes = static_cast<int>(n);
   const int extra = (shares[last].end - shares[last].begin) - (shares[0].end - shares[0].begin);
-  const int from = std::max(shares[last].begin + static_cast<int>(length), nodes - extra);
+  constexpr int kAlign = SinglePrecisionSprings::kAlignment;  // where its loops start
+  const int unaligned = std::max(shares[last].begin + static_cast<int>(length), nodes - extra);
+  const int from = (unaligned + kAlign - 1) / kAlign * kAlign;
   const bool early = ahead && count > 1 && from < nodes;
   if (ahead && (dispersion || early)) {
     const auto next_passes = [&](int t) {

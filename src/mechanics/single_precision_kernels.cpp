@@ -44,7 +44,13 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(c
       out.num_phantoms += gap;
       run->count += gap + 1;
     } else {
-      out.runs.push_back({out.num_slots(), a, offset(s), 1});
+      // A run starts at a node and a slot that are multiples of kAlignment: phantoms from the
+      // aligned node on, and unused zero slots before them.
+      const int a0 = a - a % kAlignment;
+      const int unused = (kAlignment - out.num_slots() % kAlignment) % kAlignment;
+      for (int g = 0; g < unused + (a - a0); ++g) add_slot(0.0f, 0.0f, 0.0f, 0.0f);
+      out.num_phantoms += unused + (a - a0);
+      out.runs.push_back({out.num_slots() - (a - a0), a0, offset(s), a - a0 + 1});
     }
     out.max_offset = std::max(out.max_offset, offset(s));
     const bool swapped = node_a[s] > node_b[s];

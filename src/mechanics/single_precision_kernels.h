@@ -3,6 +3,7 @@
 #include <memory>
 #include <vector>
 
+#include "msm_sim/mechanics/cache_line_allocator.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -31,13 +32,20 @@ struct SinglePrecisionSprings {
   /// Longest run. It bounded the threads' imbalance while shares were cut between runs; node
   /// shares (SingleShare) now cut runs anywhere, and longer runs were not measured.
   static constexpr int kMaxRunLength = 512;
+  /// Every run starts at a node and a slot that are multiples of this (leading phantoms), so that
+  /// a run's loads of 8 floats at its a ends and slots start where a 32-byte block starts, and
+  /// never straddle two cache lines in arrays that start one (CacheLineFloats, and node blocks
+  /// a multiple of 16 floats apart): the 12k-node step 4-5 % faster on one thread
+  /// (docs/physics.md §9). The b ends, at any offset, stay unaligned.
+  static constexpr int kAlignment = 8;
 
   std::vector<SingleRun> runs;
   /// Per slot: k, L0, and each end's eMSM outflow v k L0 (v the model's dispersion weight at
   /// that end, docs/physics.md §3). The inflow q v L0 times the tension k (L - L0) is the same
   /// outflow times q (L - L0), so one array per end serves both passes, q applied per node
   /// (SingleDispersion); the first pass then reads three arrays per slot instead of four.
-  std::vector<float> rest, stiffness, outflow_a, outflow_b;
+  CacheLineFloats rest, stiffness, outflow_a, outflow_b;
+  /// Slots that are no spring of the model: the phantoms, and the unused slots before a run.
   int num_phantoms = 0;
   /// The largest offset of a run: the longest overflow of a share (SingleShare).
   int max_offset = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <numeric>
 #include <stdexcept>
@@ -113,6 +114,27 @@ TEST(SinglePrecisionSchedule, PhantomsJoinABoxsRowsAndCarryNothing) {
     EXPECT_GE(run.count, 1);
     EXPECT_LE(run.count, SinglePrecisionSprings::kMaxRunLength);
     EXPECT_LT(run.a0 + run.offset + run.count - 1, model.num_nodes());
+  }
+}
+
+// Every run starts at a node and a slot that are multiples of kAlignment, in slot arrays that
+// start a cache line: its loads at the a ends and slots never straddle two lines.
+TEST(SinglePrecisionSchedule, RunsStartAtAlignedNodesAndSlots) {
+  const Model model = Block(0.45);
+  const auto springs = SinglePrecisionSprings::Schedule(model);
+  constexpr int kAlign = SinglePrecisionSprings::kAlignment;
+  for (const SingleRun& run : springs->runs) {
+    EXPECT_EQ(run.a0 % kAlign, 0) << run.a0;
+    EXPECT_EQ(run.first % kAlign, 0) << run.first;
+  }
+  for (const auto* slots :
+       {&springs->rest, &springs->stiffness, &springs->outflow_a, &springs->outflow_b}) {
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(slots->data()) % kCacheLineBytes, 0u);
+  }
+  // Fewer than kAlignment unused slots lie between two runs.
+  for (std::size_t r = 1; r < springs->runs.size(); ++r) {
+    const SingleRun& run = springs->runs[r];
+    EXPECT_LT(run.first - (springs->runs[r - 1].first + springs->runs[r - 1].count), kAlign);
   }
 }
 
@@ -374,11 +396,11 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     Eigen::Matrix3Xd now(3, n), unused, next, later;
     std::atomic<int> rounded_nodes{0};
     ForceEvaluator::NodeStages first = plain;
-    first.after_unstored = [&](int, int begin, int end, const float* f, long count) {
+    first.after_unstored = [&](int, int begin, int end, const float* f, long stride) {
       for (int i = begin; i < end; ++i) {
         for (int d = 0; d < 3; ++d) {
           now(d, i) =
-              static_cast<double>(f[d * count + i]) + static_cast<double>(f[(3 + d) * count + i]);
+              static_cast<double>(f[d * stride + i]) + static_cast<double>(f[(3 + d) * stride + i]);
         }
       }
       ahead.RoundNodes(next_x, &next_v, begin, end, origin);
@@ -421,7 +443,9 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
     return ends;
   };
   const std::vector<int> equal = bounds();
-  EXPECT_EQ(equal, (std::vector<int>{n / 3, 2 * n / 3, n}));
+  // Inner bounds rounded down to where the runs' aligned loads start.
+  const int align = SinglePrecisionSprings::kAlignment;
+  EXPECT_EQ(equal, (std::vector<int>{n / 3 / align * align, 2 * n / 3 / align * align, n}));
   std::vector<NodeIndex> busy(300);
   std::iota(busy.begin(), busy.end(), 100);  // nodes 100 .. 399
   evaluator.CutNodeShares(busy, 2.0);
@@ -429,7 +453,10 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   const double total = n + 2.0 * 300;
   const auto work_before = [&](int node) { return node + 2.0 * std::clamp(node - 100, 0, 300); };
   for (int t = 0; t < 2; ++t) {
-    EXPECT_NEAR(work_before(cut[t]), total * (t + 1) / 3, 3.0) << t;
+    EXPECT_EQ(cut[t] % align, 0) << t;
+    // Within one aligned step of nodes, busy ones, of the work's third.
+    EXPECT_LE(work_before(cut[t]), total * (t + 1) / 3 + 1.0) << t;
+    EXPECT_GT(work_before(cut[t] + align), total * (t + 1) / 3) << t;
   }
   EXPECT_EQ(cut[2], n);
   evaluator.CutNodeShares({}, 2.0);
@@ -438,7 +465,7 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   std::iota(all.begin(), all.end(), 0);
   evaluator.CutNodeShares(std::vector<NodeIndex>(all.begin(), all.begin() + 2), 1e9);
   const std::vector<int> lopsided = bounds();  // the EXPECT_LTs above: no share left empty
-  EXPECT_EQ(lopsided[0], 1);
+  EXPECT_EQ(lopsided[0], SinglePrecisionSprings::kAlignment);
 }
 
 // NodeStages::after_unstored gets the forces SetForces would have stored, to the bit, for every
@@ -461,11 +488,11 @@ TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
     ForceEvaluator::NodeStages stages;
     stages.before = [](int, int, int) {};
     stages.after = [&](int, int, int) { ++afters; };
-    stages.after_unstored = [&](int, int begin, int end, const float* f, long n) {
+    stages.after_unstored = [&](int, int begin, int end, const float* f, long stride) {
       for (int i = begin; i < end; ++i) {
         for (int d = 0; d < 3; ++d) {
           summed(d, i) =
-              static_cast<double>(f[d * n + i]) + static_cast<double>(f[(3 + d) * n + i]);
+              static_cast<double>(f[d * stride + i]) + static_cast<double>(f[(3 + d) * stride + i]);
         }
       }
       sums += end - begin;

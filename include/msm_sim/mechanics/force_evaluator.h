@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/mechanics/cache_line_allocator.h"
 #include "msm_sim/mechanics/orientation_barrier.h"
 #include "msm_sim/model/model.h"
 
@@ -120,10 +121,11 @@ class ForceEvaluator {
   /// them. Where the loops have no shares (double precision, models below kParallelSingleNodes,
   /// one thread) they are called once, with (0, 0, N), before and after the evaluation.
   ///
-  /// `after_unstored(share, begin, end, end_forces, n)`, optional, replaces storing the forces of
-  /// nodes [begin, end) and `after` where the single-precision loops have no orientation barrier:
-  /// it gets the springs' forces unsummed, node i's being the sum over d of the float
-  /// end_forces[d * n + i] (its a ends) and end_forces[(3 + d) * n + i] (its b ends), each taken
+  /// `after_unstored(share, begin, end, end_forces, stride)`, optional, replaces storing the
+  /// forces of nodes [begin, end) and `after` where the single-precision loops have no
+  /// orientation barrier: it gets the springs' forces unsummed, node i's being the sum over d of
+  /// the float end_forces[d * stride + i] (its a ends) and end_forces[(3 + d) * stride + i] (its
+  /// b ends; stride >= N, where each block starts a cache line), each taken
   /// to double before adding (as *forces would hold it), for d = x, y, z, and must do what `after`
   /// would with them. *forces is then left unset for those nodes. (The explicit kick fused with
   /// the sums: the forces are not written to memory and read back.)
@@ -157,8 +159,10 @@ class ForceEvaluator {
   /// of `busy` (sorted, distinct, each < the model's nodes) 1 + `busy_work` (>= 0): a share's
   /// thread also runs its nodes' stages (NodeStages), and a node in contact costs the contact
   /// stage about as much again as its springs and stages. Without busy nodes the shares are
-  /// equal. The cut moves where the float sums meet at share boundaries (their rounding; still
-  /// a function of the shares only); call it between evaluations, not from a stage.
+  /// equal. Either way the shares' bounds are multiples of SinglePrecisionSprings::kAlignment
+  /// (where the runs' aligned loads start), within that of equal work. The cut moves where the
+  /// float sums meet at share boundaries (their rounding; still a function of the shares only);
+  /// call it between evaluations, not from a stage.
   void CutNodeShares(const std::vector<NodeIndex>& busy, double busy_work);
   /// Whether the next SetForces takes the single-precision loops, whose node arrays RoundNodes
   /// fills.
@@ -233,6 +237,9 @@ class ForceEvaluator {
   static constexpr int kParallelSingleNodes = 1'000;
   /// The number of node shares of the single-precision loops.
   int SingleShares() const;
+  /// Floats from one x, y or z block of the single-precision node arrays to the next: the node
+  /// count rounded up to a cache line, so that every block starts one.
+  Eigen::Index SingleStride() const;
   /// Whether an evaluation now takes the single-precision loops.
   bool UsesSingleLoops() const;
   /// Share t of `count` node shares of the single-precision loops.
@@ -323,11 +330,13 @@ class ForceEvaluator {
   const NodeStages* stages_ = nullptr;  // during SetForces with stages, on the single loops
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
-  // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each; the
-  // accumulators of the a and b ends (N each), g = J / W (N).
-  Eigen::VectorXf single_nodes_, single_accumulators_, single_dispersion_;
-  // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each.
-  Eigen::VectorXf single_overflows_;
+  // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each, at
+  // SingleStride() floats apart; the accumulators of the a and b ends (the same), g = J / W (N).
+  // From the start of a cache line (SinglePrecisionSprings::kAlignment).
+  CacheLineFloats single_nodes_, single_accumulators_, single_dispersion_;
+  // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each, at
+  // max_offset rounded up to a cache line apart.
+  CacheLineFloats single_overflows_;
   // The stiffness product in single precision, per spring in schedule order: k, inflow a and b,
   // outflow a and b, then the linearisation's ux, uy, uz and T / L (RoundLinearization); and
   // its scratch: dv and K dv as x, y, z blocks of N, then dJ (N).
