@@ -483,7 +483,8 @@ int ForceEvaluator::SingleShares() const {
 
 Eigen::Index ForceEvaluator::SingleStride() const {
   constexpr Eigen::Index kLine = kCacheLineBytes / sizeof(float);
-  return (model_->num_nodes() + kLine - 1) / kLine * kLine;
+  const Eigen::Index reach = single_ ? single_->PaddedNodes() : model_->num_nodes();
+  return (reach + kLine - 1) / kLine * kLine;
 }
 
 namespace {
@@ -684,7 +685,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     single_accumulators_.resize(2 * stride);
     accumulator_.resize(n);
     dispersion_per_weight_.resize(n);
-    single_dispersion_.resize(n);
+    single_dispersion_.resize(stride);  // g, read where the blocks' phantoms reach
   }
   float* j_a = single_accumulators_.data();
   float* j_b = j_a + stride;
@@ -693,10 +694,21 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   const auto ahead_from = [&](int t) {
     return t == count - 1 && early_from >= 0 ? early_from : shares[t].end;
   };
-  // A share's plain or second pass over its nodes before ahead_from; its force blocks were
-  // cleared with the part taken ahead. Bit for bit as one loop over the share: a node's b-end
-  // sum takes its slots in order of offset, and those whose a ends lie at ahead_from or above
-  // (taken first) are exactly its shorter offsets.
+  // The last share's split (count > 1): the later evaluation's passes after the first may take
+  // its nodes from `split` on ahead (NodeStages::rounds_ahead: the last share, which does not
+  // wait for the first's contacts, a resting block's ground contacts, CutNodeShares, takes its
+  // nodes beyond the first share's count, which the cut gave it for those contacts, and beyond
+  // the earlier shares' overflows, whose J it has complete). So that they sum alike whether
+  // taken ahead or not, the last share's passes after the first always run them apart: first
+  // the split's tail, its b ends in place, then the nodes before it, whose b ends from `split` on
+  // go to the share's overflow (unused otherwise: the last share's b ends lie below n), added
+  // after. (A node's b-end sum then takes the tail's slots, then the rest's, in either case.)
+  const int last = count - 1;
+  const int nodes = static_cast<int>(n);
+  const int extra = (shares[last].end - shares[last].begin) - (shares[0].end - shares[0].begin);
+  constexpr int kAlign = SinglePrecisionSprings::kAlignment;  // where its loops start
+  const int unaligned = std::max(shares[last].begin + static_cast<int>(length), nodes - extra);
+  const int split = count > 1 ? std::min((unaligned + kAlign - 1) / kAlign * kAlign, nodes) : nodes;
   // The forces of the slots in `part` of share t: the plain pass, or the eMSM second pass.
   const auto spring_forces = [&](int t, const SingleShare& part) {
     if (dispersion) {
@@ -706,14 +718,25 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       SinglePlainRuns(*single_, part, x_arrays, velocities, beta, end_forces, overflow_forces(t));
     }
   };
+  const auto tail_forces = [&](int t) {
+    clear(t, f, 6, 0, 2);
+    spring_forces(t, SingleShare{split, nodes, nodes});
+  };
   const auto force_pass = [&](int t) {
-    const int from = ahead_from(t);
-    if (from == shares[t].end) {
+    if (t != last || split == nodes) {
       clear(t, f, 6, 0, 2);
-    } else {
-      std::fill(overflow(t, 0), overflow(t, 2) + length, 0.0f);
+      spring_forces(t, shares[t]);
+      return;
     }
-    spring_forces(t, SingleShare{shares[t].begin, from, shares[t].end});
+    if (early_from != split) tail_forces(t);  // else taken ahead, its blocks cleared then
+    std::fill(overflow(t, 0), overflow(t, 2) + length, 0.0f);
+    spring_forces(t, SingleShare{shares[t].begin, split, split});
+    const long reach = std::min<long>(length, nodes - split);
+    for (int d = 0; d < 3; ++d) {
+      float* to = f + (3 + d) * stride + split;
+      const float* from = overflow(t, d);
+      for (long i = 0; i < reach; ++i) to[i] += from[i];
+    }
   };
   // The plain pass, or the eMSM first pass (J's accumulators).
   const auto first_pass = [&](int t) {
@@ -749,28 +772,19 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     RunSharesInTwoParts(count, gather_and_disperse, force_pass, last_read);
   }
   // Ahead: each share's kick, contacts and drift, then the next evaluation's eMSM first pass on
-  // the nodes its `after` stage and the later shares' have rounded. The last share, which does
-  // not wait for the first's contacts (a resting block's ground contacts, CutNodeShares), also
-  // takes the passes after it for its nodes beyond the first share's count, which the cut gave
-  // it for those contacts, and beyond the earlier shares' overflows (it has their J complete):
-  // the first share's contacts and those nodes are then done at the same time.
-  const int last = count - 1;
-  const int nodes = static_cast<int>(n);
-  const int extra = (shares[last].end - shares[last].begin) - (shares[0].end - shares[0].begin);
-  constexpr int kAlign = SinglePrecisionSprings::kAlignment;  // where its loops start
-  const int unaligned = std::max(shares[last].begin + static_cast<int>(length), nodes - extra);
-  const int from = (unaligned + kAlign - 1) / kAlign * kAlign;
-  const bool early = ahead && count > 1 && from < nodes;
+  // the nodes its `after` stage and the later shares' have rounded; the last share also takes
+  // the passes after it for its split's tail (see `split`): the first share's contacts and
+  // those nodes are then done at the same time.
+  const bool early = ahead && split < nodes;
   if (ahead && (dispersion || early)) {
     const auto next_passes = [&](int t) {
       if (dispersion) first_pass(t);
       if (!early || t != last) return;
-      if (dispersion) disperse(from, nodes);
-      clear(t, f, 6, 0, 2);
-      spring_forces(t, SingleShare{from, nodes, nodes});
+      if (dispersion) disperse(split, nodes);
+      tail_forces(t);
     };
     RunSharesInTwoParts(count, apply_forces, next_passes, last_read);
-    ahead_ = {true, early ? from : -1, velocities != nullptr ? beta : 0.0f};
+    ahead_ = {true, early ? split : -1, velocities != nullptr ? beta : 0.0f};
   } else {
     RunShares(count, apply_forces);
   }

@@ -6,8 +6,9 @@
 // the baseline's SSE2 (measured 1.8x on the double plain pass). The AVX-512 version keeps 256-bit
 // vectors (-mprefer-vector-width=256, CMakeLists.txt) and gains 32 vector registers and masked
 // tails: the realtime block ran 6.9 % faster on one thread (docs/physics.md §9). The AVX-512 and
-// AVX2 versions contract the same operations into FMAs, so their results are the same to the
-// bit (the realtime block's peak force); the baseline has no FMA. The spring loops' files use it.
+// AVX2 versions contract the same operations into FMAs, so their results were the same to the
+// bit (the realtime block's peak force, measured on the run loops before the block loops of
+// single_precision_kernels.cpp); the baseline has no FMA. The spring loops' files use it.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 #define MSM_SIM_SIMD_CLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))

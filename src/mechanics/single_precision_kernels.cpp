@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <utility>
 
@@ -62,7 +63,80 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(c
              static_cast<float>(swapped ? outflow_b : outflow_a),
              static_cast<float>(swapped ? outflow_a : outflow_b));
   }
+  out.num_nodes = model.num_nodes();
+  out.blocks = ScheduleBlocks(out);
   return springs;
+}
+
+SinglePrecisionSprings::Blocks SinglePrecisionSprings::ScheduleBlocks(
+    const SinglePrecisionSprings& runs) {
+  std::vector<int> sorted;  // the distinct offsets, ascending (runs are sorted by offset)
+  for (const SingleRun& run : runs.runs) {
+    if (sorted.empty() || sorted.back() != run.offset) sorted.push_back(run.offset);
+  }
+  Blocks blocks;
+  const int offsets = static_cast<int>(sorted.size());
+  blocks.count = (runs.num_nodes + kAlignment - 1) / kAlignment;
+  const double block_slots = static_cast<double>(blocks.count) * kAlignment * offsets;
+  const int springs = runs.num_slots() - runs.num_phantoms;
+  if (offsets == 0 || offsets > kMaxBlockOffsets || springs < kMinBlockOccupancy * block_slots) {
+    return {};
+  }
+  // Groups of offsets whose b ends' stores never partly overlap a load a few blocks later
+  // (offsets a multiple of 8 apart hit the same 8 nodes, or at least kGroupSeparation apart):
+  // a load that partly overlaps a store still in flight waits for it to retire (offsets 39,
+  // 40 and 41 in one sweep made the blocks no faster than the runs).
+  std::vector<std::vector<int>> groups;
+  for (const int d : sorted) {
+    const auto fits = [d](const std::vector<int>& group) {
+      return std::all_of(group.begin(), group.end(), [d](int other) {
+        return (d - other) % kAlignment == 0 || d - other >= kGroupSeparation;
+      });
+    };
+    auto group = std::find_if(groups.begin(), groups.end(), fits);
+    if (group == groups.end()) group = groups.insert(groups.end(), std::vector<int>{});
+    group->push_back(d);
+  }
+  std::vector<int> group_of(offsets), index_in_group(offsets);  // by position in `sorted`
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (std::size_t j = 0; j < groups[g].size(); ++j) {
+      const int o =
+          static_cast<int>(std::find(sorted.begin(), sorted.end(), groups[g][j]) - sorted.begin());
+      group_of[o] = static_cast<int>(g);
+      index_in_group[o] = static_cast<int>(j);
+      blocks.offsets.push_back(groups[g][j]);
+    }
+    blocks.group_ends.push_back(static_cast<int>(blocks.offsets.size()));
+  }
+  // Each slot of the runs into its group, block, offset and lane; a phantom's zeros stay zeros.
+  constexpr int kFields = 4;
+  blocks.slots.assign(static_cast<std::size_t>(block_slots) * kFields, 0.0f);
+  int o = 0;
+  for (const SingleRun& run : runs.runs) {
+    while (sorted[o] != run.offset) ++o;
+    const int g = group_of[o];
+    const std::size_t group_begin = g == 0 ? 0 : blocks.group_ends[g - 1];
+    const std::size_t group_size = blocks.group_ends[g] - group_begin;
+    for (int i = 0; i < run.count; ++i) {
+      const int slot = run.first + i, a = run.a0 + i;
+      if (runs.stiffness[slot] == 0.0f && runs.outflow_a[slot] == 0.0f &&
+          runs.outflow_b[slot] == 0.0f) {
+        continue;  // a phantom (or a spring of no force, which it equals)
+      }
+      const std::size_t block = a / kAlignment;
+      const std::size_t at = (group_begin * blocks.count + block * group_size + index_in_group[o]) *
+                                 kFields * kAlignment +
+                             a % kAlignment;
+      if (blocks.slots[at] != 0.0f || blocks.slots[at + kAlignment] != 0.0f) {
+        return {};  // two springs join the same nodes: the blocks have one slot for them
+      }
+      blocks.slots[at] = runs.stiffness[slot];
+      blocks.slots[at + kAlignment] = runs.rest[slot];
+      blocks.slots[at + 2 * kAlignment] = runs.outflow_a[slot];
+      blocks.slots[at + 3 * kAlignment] = runs.outflow_b[slot];
+    }
+  }
+  return blocks;
 }
 
 namespace {
@@ -193,6 +267,209 @@ inline __attribute__((always_inline)) void ForcesImpl(
   }
 }
 
+// The blocks' loops (SinglePrecisionSprings::Blocks) in GCC's vector types, 8 floats: a
+// block's a ends then stay in registers across its offsets (as omp simd loops over a block's 8
+// nodes they went through the stack). Each clone lowers them to its own instructions (two SSE
+// halves for the baseline). The types never cross a call (everything here is inlined), so the
+// ABI note GCC gives for 32-byte vectors does not apply.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+constexpr int kLanes = SinglePrecisionSprings::kAlignment;
+using Lanes = float __attribute__((vector_size(kLanes * sizeof(float))));
+
+inline __attribute__((always_inline)) Lanes Load(const float* from) {
+  Lanes lanes;
+  std::memcpy(&lanes, from, sizeof lanes);
+  return lanes;
+}
+inline __attribute__((always_inline)) void Store(float* to, Lanes lanes) {
+  std::memcpy(to, &lanes, sizeof lanes);
+}
+inline __attribute__((always_inline)) Lanes Sqrt(Lanes x) {
+  Lanes root;
+  for (int l = 0; l < kLanes; ++l) root[l] = std::sqrt(x[l]);  // one SIMD square root
+  return root;
+}
+
+// Subtracts `lanes` from the b ends' floats at nodes [b, b + 8): in place (`shared`) below
+// `limit`, else in the share's overflow (`overflow`, from node `limit`). kInPlace: all below.
+template <bool kInPlace>
+inline __attribute__((always_inline)) void SubtractAtBEnds(Lanes lanes, int b, int limit,
+                                                           float* shared, float* overflow) {
+  if (kInPlace || b + kLanes <= limit) {
+    Store(shared + b, Load(shared + b) - lanes);
+  } else if (b >= limit) {
+    Store(overflow + (b - limit), Load(overflow + (b - limit)) - lanes);
+  } else {  // across the limit
+    for (int l = 0; l < kLanes; ++l)
+      (b + l < limit ? shared[b + l] : overflow[b + l - limit]) -= lanes[l];
+  }
+}
+
+// The blocks of a share's nodes [begin, end): from the first block at `begin` (a multiple of 8)
+// to the last one that holds a node below `end`, at most `count`.
+struct BlockRange {
+  int first, last;  // [first, last)
+  BlockRange(const SingleShare& share, int count)
+      : first(share.begin / kLanes), last(std::min((share.end + kLanes - 1) / kLanes, count)) {}
+};
+
+// Whether every b end of block k lies below `limit` (or no later share exists: a share's nodes
+// up to the model's last, whose arrays reach every phantom; SinglePrecisionSprings::PaddedNodes).
+inline bool BlockInPlace(int k, int max_offset, int limit, int nodes) {
+  return limit >= nodes || kLanes * (k + 1) + max_offset <= limit;
+}
+
+// The offsets of a group (SinglePrecisionSprings::Blocks), and where its slots start.
+struct OffsetGroup {
+  const int* first;
+  const int* last;
+  const int* begin() const { return first; }
+  const int* end() const { return last; }
+  const float* slots;  // of its first block
+  std::size_t per_block;
+};
+
+// Calls sweep(group) for each group of offsets in turn.
+template <typename Sweep>
+inline __attribute__((always_inline)) void ForOffsetGroups(
+    const SinglePrecisionSprings::Blocks& blocks, Sweep&& sweep) {
+  int begin = 0;
+  for (const int end : blocks.group_ends) {
+    const std::size_t per_block = std::size_t{4} * kLanes * (end - begin);
+    sweep(OffsetGroup{blocks.offsets.data() + begin, blocks.offsets.data() + end,
+                      blocks.slots.data() + per_block / (end - begin) * begin * blocks.count,
+                      per_block});
+    begin = end;
+  }
+}
+
+// The eMSM first pass over block k (InflowRun's sums): J_a's sum over the block's offsets in
+// registers, added once; J_b per offset.
+template <bool kInPlace>
+inline __attribute__((always_inline)) void InflowBlock(int k, const float* slots,
+                                                       const OffsetGroup& offsets, const float* px,
+                                                       const float* py, const float* pz, float* j_a,
+                                                       float* j_b, float* j_b_overflow, int limit) {
+  const int a = kLanes * k;
+  const Lanes xa = Load(px + a), ya = Load(py + a), za = Load(pz + a);
+  Lanes sum = {};
+  for (const int d : offsets) {
+    const int b = a + d;
+    const Lanes rx = Load(px + b) - xa, ry = Load(py + b) - ya, rz = Load(pz + b) - za;
+    const Lanes stretch = Sqrt(rx * rx + ry * ry + rz * rz) - Load(slots + kLanes);
+    sum += Load(slots + 2 * kLanes) * stretch;
+    SubtractAtBEnds<kInPlace>(-(Load(slots + 3 * kLanes) * stretch), b, limit, j_b, j_b_overflow);
+    slots += 4 * kLanes;
+  }
+  Store(j_a + a, Load(j_a + a) + sum);
+}
+
+// The blocks of `share`, from the last down: a node's b-end sum then takes its slots in order of
+// offset, whatever blocks ran before (NodeStages::rounds_ahead's early part runs a share's last
+// blocks first). Precondition: share.begin a multiple of 8.
+inline __attribute__((always_inline)) void InflowBlocks(const SinglePrecisionSprings& springs,
+                                                        const SingleShare& share,
+                                                        const SingleNodeArrays& p, float* j_a,
+                                                        float* j_b, float* j_b_overflow) {
+  const SinglePrecisionSprings::Blocks& blocks = springs.blocks;
+  const float *px = p.x, *py = p.y, *pz = p.z;
+  const BlockRange range(share, blocks.count);
+  ForOffsetGroups(
+      blocks, [&](const OffsetGroup& group) __attribute__((always_inline)) {
+        for (int k = range.last - 1; k >= range.first; --k) {
+          const float* slots = group.slots + group.per_block * k;
+          if (BlockInPlace(k, springs.max_offset, share.limit, springs.num_nodes)) {
+            InflowBlock<true>(k, slots, group, px, py, pz, j_a, j_b, j_b_overflow, share.limit);
+          } else {
+            InflowBlock<false>(k, slots, group, px, py, pz, j_a, j_b, j_b_overflow, share.limit);
+          }
+        }
+      });
+}
+
+// The node arrays and forces of a block's loop, as locals (read through the structs, GCC loaded
+// the pointers again after every store).
+struct BlockArrays {
+  const float *px, *py, *pz, *vx, *vy, *vz, *g;
+  float *fax, *fay, *faz, *fbx, *fby, *fbz, *ox, *oy, *oz;
+};
+
+// The plain pass, or the eMSM second pass when Dispersed, over block k (ForceRun's forces): the
+// a ends' sums over the block's offsets in registers, added once; the b ends' per offset.
+template <bool Damped, bool Dispersed, bool kInPlace>
+inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
+                                                      const OffsetGroup& offsets,
+                                                      const BlockArrays& m, float beta, int limit) {
+  const int a = kLanes * k;
+  const Lanes xa = Load(m.px + a), ya = Load(m.py + a), za = Load(m.pz + a);
+  Lanes vxa = {}, vya = {}, vza = {}, ga = {};
+  if constexpr (Damped) vxa = Load(m.vx + a), vya = Load(m.vy + a), vza = Load(m.vz + a);
+  if constexpr (Dispersed) ga = Load(m.g + a);
+  Lanes sum_x = {}, sum_y = {}, sum_z = {};
+  for (const int d : offsets) {
+    const int b = a + d;
+    const Lanes rx = Load(m.px + b) - xa, ry = Load(m.py + b) - ya, rz = Load(m.pz + b) - za;
+    const Lanes length = Sqrt(rx * rx + ry * ry + rz * rz);
+    const Lanes inverse_length = 1.0f / (length + 1e-30f);  // as InverseLength
+    const Lanes stiffness = Load(slots);
+    Lanes t = stiffness * (length - Load(slots + kLanes));
+    if constexpr (Dispersed) {
+      t += Load(slots + 2 * kLanes) * ga + Load(slots + 3 * kLanes) * Load(m.g + b);
+    }
+    if constexpr (Damped) {
+      const Lanes rate =
+          (Load(m.vx + b) - vxa) * rx + (Load(m.vy + b) - vya) * ry + (Load(m.vz + b) - vza) * rz;
+      t += beta * stiffness * rate * inverse_length;
+    }
+    const Lanes scale = t * inverse_length;
+    const Lanes sx = scale * rx, sy = scale * ry, sz = scale * rz;
+    sum_x += sx;
+    sum_y += sy;
+    sum_z += sz;
+    SubtractAtBEnds<kInPlace>(sx, b, limit, m.fbx, m.ox);
+    SubtractAtBEnds<kInPlace>(sy, b, limit, m.fby, m.oy);
+    SubtractAtBEnds<kInPlace>(sz, b, limit, m.fbz, m.oz);
+    slots += 4 * kLanes;
+  }
+  Store(m.fax + a, Load(m.fax + a) + sum_x);
+  Store(m.fay + a, Load(m.fay + a) + sum_y);
+  Store(m.faz + a, Load(m.faz + a) + sum_z);
+}
+
+// ForceBlock over the blocks of `share`, from the last down (as InflowBlocks).
+template <bool Damped, bool Dispersed>
+inline __attribute__((always_inline)) void ForceBlocks(
+    const SinglePrecisionSprings& springs, const SingleShare& share, const SingleNodeArrays& p,
+    const SingleNodeArrays* velocities, float beta, const float* g, const SingleEndForces& forces,
+    const MutableSingleNodeArrays& overflow) {
+  const SinglePrecisionSprings::Blocks& blocks = springs.blocks;
+  const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
+  const BlockArrays m{p.x,        p.y,        p.z,        v.x,        v.y,        v.z,
+                      g,          forces.a.x, forces.a.y, forces.a.z, forces.b.x, forces.b.y,
+                      forces.b.z, overflow.x, overflow.y, overflow.z};
+  const BlockRange range(share, blocks.count);
+  ForOffsetGroups(
+      blocks, [&](const OffsetGroup& group) __attribute__((always_inline)) {
+        for (int k = range.last - 1; k >= range.first; --k) {
+          const float* slots = group.slots + group.per_block * k;
+          if (BlockInPlace(k, springs.max_offset, share.limit, springs.num_nodes)) {
+            ForceBlock<Damped, Dispersed, true>(k, slots, group, m, beta, share.limit);
+          } else {
+            ForceBlock<Damped, Dispersed, false>(k, slots, group, m, beta, share.limit);
+          }
+        }
+      });
+}
+#pragma GCC diagnostic pop
+
+// Whether the loops take `share` by blocks: the schedule has them and the share starts at a
+// block (and ends at one, or past the last node).
+bool ByBlocks(const SinglePrecisionSprings& springs, const SingleShare& share) {
+  return !springs.blocks.offsets.empty() && share.begin % kLanes == 0 &&
+         (share.end % kLanes == 0 || share.end >= springs.num_nodes);
+}
+
 }  // namespace
 
 MSM_SIM_SIMD_CLONES
@@ -282,6 +559,16 @@ void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& s
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                      float beta, const SingleEndForces& forces,
                      const MutableSingleNodeArrays& overflow) {
+  if (ByBlocks(springs, share)) {
+    if (velocities != nullptr) {
+      ForceBlocks<true, false>(springs, share, positions, velocities, beta, nullptr, forces,
+                               overflow);
+    } else {
+      ForceBlocks<false, false>(springs, share, positions, velocities, beta, nullptr, forces,
+                                overflow);
+    }
+    return;
+  }
   if (velocities != nullptr) {
     ForcesImpl<true, false>(springs, share, positions, velocities, beta, nullptr, forces, overflow);
   } else {
@@ -294,6 +581,10 @@ MSM_SIM_SIMD_CLONES
 void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                       const SingleNodeArrays& positions, float* j_a, float* j_b,
                       float* j_b_overflow) {
+  if (ByBlocks(springs, share)) {
+    InflowBlocks(springs, share, positions, j_a, j_b, j_b_overflow);
+    return;
+  }
   for (const SingleRun& run : springs.runs) {
     ForRunInShare(run, share, [&](int a, int count, bool beyond) {
       const int b = a + run.offset, f = run.first + (a - run.a0);
@@ -309,6 +600,16 @@ void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare&
                        const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                        float beta, const float* dispersion_per_weight,
                        const SingleEndForces& forces, const MutableSingleNodeArrays& overflow) {
+  if (ByBlocks(springs, share)) {
+    if (velocities != nullptr) {
+      ForceBlocks<true, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
+                              forces, overflow);
+    } else {
+      ForceBlocks<false, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
+                               forces, overflow);
+    }
+    return;
+  }
   if (velocities != nullptr) {
     ForcesImpl<true, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
                            forces, overflow);

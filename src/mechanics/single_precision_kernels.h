@@ -52,9 +52,46 @@ struct SinglePrecisionSprings {
 
   int num_slots() const { return static_cast<int>(rest.size()); }
 
+  /// The same springs in blocks of kAlignment consecutive a nodes (empty `offsets`: none; see
+  /// Schedule): for each block, for each of the model's few distinct offsets, the 8 slots joining
+  /// the block's nodes a to a + offset (zeros where there is no spring). A block's loop keeps its
+  /// a ends' positions, velocities, g and force sums in registers across its offsets, and loads
+  /// and stores only the b ends per offset: about 14 loads and 3 stores per 8 slots in the
+  /// second pass instead of 24 and 6 along runs (docs/physics.md §9). The loops take the blocks
+  /// where a share starts and ends at multiples of kAlignment (or at the last node).
+  struct Blocks {
+    /// The distinct offsets in groups: offsets [group_ends[g - 1], group_ends[g]) are group g,
+    /// swept over all blocks in turn (see ScheduleBlocks), ascending in each.
+    std::vector<int> offsets;
+    std::vector<int> group_ends;
+    int count = 0;  // blocks: nodes 0 .. 8 count - 1
+    /// [group][block][offset of the group][k, L0, outflow a, outflow b][8 nodes of the block],
+    /// as the slots above.
+    CacheLineFloats slots;
+  };
+  Blocks blocks;
+  /// Offsets beyond which, or occupancy (the model's springs per block slot) below which, the
+  /// schedule has no blocks: the phantoms would cost more than the loads saved.
+  static constexpr int kMaxBlockOffsets = 16;
+  static constexpr double kMinBlockOccupancy = 0.75;
+  /// Offsets of one group differ by a multiple of kAlignment or by at least this.
+  static constexpr int kGroupSeparation = 32;
+  int num_nodes = 0;  // the model's
+
+  /// How far the loops read and write the node arrays: past the last node where a block's
+  /// phantoms reach (its last block's nodes plus the largest offset). The node arrays must hold
+  /// this many nodes, those past the model's finite (zeros).
+  int PaddedNodes() const {
+    return blocks.offsets.empty() ? num_nodes : kAlignment * blocks.count + max_offset;
+  }
+
   /// Schedules `model`'s springs. Deterministic. Precondition: linear springs (the loops know
   /// t = k (L - L0) only).
   static std::shared_ptr<const SinglePrecisionSprings> Schedule(const Model& model);
+
+ private:
+  // The blocks of the runs' slots, or none (see Blocks).
+  static Blocks ScheduleBlocks(const SinglePrecisionSprings& runs);
 };
 
 /// Node vectors as x, y, z blocks (structure of arrays), single precision.

@@ -88,6 +88,26 @@ TEST_P(SinglePrecisionKernels, MatchTheDoublePerSpringLoops) {
   EXPECT_LE(net.cwiseAbs().maxCoeff(), SingleBound(model));
 }
 
+// The same on a block large enough for the schedule's blocks (SinglePrecisionSprings::Blocks;
+// the block above has too many phantoms for them, and takes the runs), on one thread and on
+// two node shares, whose first writes b ends past its last node to its overflow, in place, split
+// or whole, and whose second runs its split's tail apart.
+TEST_P(SinglePrecisionKernels, BlocksMatchTheDoublePerSpringLoops) {
+  const auto [poisson, beta] = GetParam();
+  const Model model = Block(poisson, 0.0035);
+  ASSERT_FALSE(SinglePrecisionSprings::Schedule(model)->blocks.offsets.empty());
+  ASSERT_TRUE(SinglePrecisionSprings::Schedule(Block(poisson))->blocks.offsets.empty());
+  const Eigen::Matrix3Xd x =
+      (Perturbed(model.rest_positions(), 2e-4, 1).colwise() + Eigen::Vector3d(3.0, -2.0, 1.0))
+          .eval();
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 2);
+  const Eigen::Matrix3Xd reference = Forces(model, SpringPrecision::kDouble, x, v, beta);
+  for (const int threads : {1, 2}) {
+    SCOPED_TRACE(threads);
+    ExpectClose(model, Forces(model, SpringPrecision::kSingle, x, v, beta, threads), reference);
+  }
+}
+
 // Plain MSM (nu = 1/4) and eMSM (nu = 0.45, 0.49, -0.5), without and with dampers.
 INSTANTIATE_TEST_SUITE_P(PlainAndDispersed, SinglePrecisionKernels,
                          ::testing::Values(std::make_pair(0.25, 0.0), std::make_pair(0.25, 1e-3),
@@ -115,6 +135,53 @@ TEST(SinglePrecisionSchedule, PhantomsJoinABoxsRowsAndCarryNothing) {
     EXPECT_LE(run.count, SinglePrecisionSprings::kMaxRunLength);
     EXPECT_LT(run.a0 + run.offset + run.count - 1, model.num_nodes());
   }
+}
+
+// The blocks hold every spring of the model once, with its data, and group offsets that differ
+// by a multiple of kAlignment or by at least kGroupSeparation.
+TEST(SinglePrecisionSchedule, BlocksHoldEverySpringOnceInSeparatedGroups) {
+  const Model model = Block(0.45, 0.0035);
+  const auto springs = SinglePrecisionSprings::Schedule(model);
+  const SinglePrecisionSprings::Blocks& blocks = springs->blocks;
+  ASSERT_EQ(blocks.offsets.size(), 9u);
+  ASSERT_EQ(blocks.count, (model.num_nodes() + 7) / 8);
+  ASSERT_EQ(blocks.slots.size(), 4u * 8 * 9 * blocks.count);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(blocks.slots.data()) % kCacheLineBytes, 0u);
+  int begin = 0;
+  int found = 0;
+  double k_sum = 0.0, rest_sum = 0.0;
+  for (const int end : blocks.group_ends) {
+    for (int i = begin; i < end; ++i) {
+      for (int j = begin; j < i; ++j) {
+        const int apart = blocks.offsets[i] - blocks.offsets[j];
+        EXPECT_TRUE(apart % 8 == 0 || apart >= SinglePrecisionSprings::kGroupSeparation)
+            << blocks.offsets[j] << " and " << blocks.offsets[i];
+      }
+    }
+    const std::size_t size = end - begin;
+    for (int k = 0; k < blocks.count; ++k) {
+      for (std::size_t o = 0; o < size; ++o) {
+        const float* slot = blocks.slots.data() +
+                            32 * (static_cast<std::size_t>(begin) * blocks.count + k * size + o);
+        for (int lane = 0; lane < 8; ++lane) {
+          if (slot[8 + lane] == 0.0f) continue;  // no spring
+          ++found;
+          k_sum += slot[lane];
+          rest_sum += slot[8 + lane];
+          // Its b end is a node of the model.
+          EXPECT_LT(8 * k + lane + blocks.offsets[begin + o], model.num_nodes());
+        }
+      }
+    }
+    begin = end;
+  }
+  EXPECT_EQ(begin, 9);
+  EXPECT_EQ(found, model.num_springs());
+  const auto sum = [](const std::vector<double>& values) {
+    return std::accumulate(values.begin(), values.end(), 0.0);
+  };
+  EXPECT_NEAR(k_sum, sum(model.spring_stiffness()), 1e-6 * k_sum);
+  EXPECT_NEAR(rest_sum, sum(model.spring_rest_length()), 1e-6 * rest_sum);
 }
 
 // Every run starts at a node and a slot that are multiples of kAlignment, in slot arrays that

@@ -237,8 +237,9 @@ class ForceEvaluator {
   static constexpr int kParallelSingleNodes = 1'000;
   /// The number of node shares of the single-precision loops.
   int SingleShares() const;
-  /// Floats from one x, y or z block of the single-precision node arrays to the next: the node
-  /// count rounded up to a cache line, so that every block starts one.
+  /// Floats from one x, y or z block of the single-precision node arrays to the next: the nodes
+  /// the loops reach (SinglePrecisionSprings::PaddedNodes) rounded up to a cache line, so that
+  /// every block starts one.
   Eigen::Index SingleStride() const;
   /// Whether an evaluation now takes the single-precision loops.
   bool UsesSingleLoops() const;
@@ -331,8 +332,9 @@ class ForceEvaluator {
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
   // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each, at
-  // SingleStride() floats apart; the accumulators of the a and b ends (the same), g = J / W (N).
-  // From the start of a cache line (SinglePrecisionSprings::kAlignment).
+  // SingleStride() floats apart; the accumulators of the a and b ends and g = J / W the same;
+  // from the start of a cache line (SinglePrecisionSprings::kAlignment). Past N: zeros (the
+  // blocks' phantoms reach there).
   CacheLineFloats single_nodes_, single_accumulators_, single_dispersion_;
   // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each, at
   // max_offset rounded up to a cache line apart.
