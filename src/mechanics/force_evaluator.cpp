@@ -678,6 +678,15 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     }
     if (stages_ != nullptr) stages_->after(t, share.begin, share.end);
   };
+  // Zeroes what share t's passes add to: both ends' forces or accumulators, or where the
+  // loops take the share by blocks only the b ends' (they store the a ends'), and the overflows.
+  const auto clear_sums = [&](int t, float* a_ends, int blocks, int first, int last) {
+    if (SingleLoopsByBlocks(*single_, shares[t])) {
+      clear(t, a_ends + (blocks / 2) * stride, blocks / 2, first, last);
+    } else {
+      clear(t, a_ends, blocks, first, last);
+    }
+  };
   const auto overflow_forces = [&](int t) {
     return MutableSingleNodeArrays{overflow(t, 0), overflow(t, 1), overflow(t, 2)};
   };
@@ -719,12 +728,12 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
     }
   };
   const auto tail_forces = [&](int t) {
-    clear(t, f, 6, 0, 2);
+    clear_sums(t, f, 6, 0, 2);
     spring_forces(t, SingleShare{split, nodes, nodes});
   };
   const auto force_pass = [&](int t) {
     if (t != last || split == nodes) {
-      clear(t, f, 6, 0, 2);
+      clear_sums(t, f, 6, 0, 2);
       spring_forces(t, shares[t]);
       return;
     }
@@ -744,7 +753,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
       force_pass(t);
       return;
     }
-    clear(t, j_a, 2, 3, 3);
+    clear_sums(t, j_a, 2, 3, 3);
     SingleInflowRuns(*single_, shares[t], x_arrays, j_a, j_b, overflow(t, 3));
   };
   // J and g in double as well where a one-pass evaluation after this one lags on them; two

@@ -328,6 +328,9 @@ struct OffsetGroup {
   const int* end() const { return last; }
   const float* slots;  // of its first block
   std::size_t per_block;
+  // The first group stores the a ends' sums, the others add them: the a ends' arrays of a share
+  // its blocks take need no clearing (SingleLoopsByBlocks).
+  bool first_group;
 };
 
 // Calls sweep(group) for each group of offsets in turn.
@@ -339,7 +342,7 @@ inline __attribute__((always_inline)) void ForOffsetGroups(
     const std::size_t per_block = std::size_t{4} * kLanes * (end - begin);
     sweep(OffsetGroup{blocks.offsets.data() + begin, blocks.offsets.data() + end,
                       blocks.slots.data() + per_block / (end - begin) * begin * blocks.count,
-                      per_block});
+                      per_block, begin == 0});
     begin = end;
   }
 }
@@ -362,7 +365,7 @@ inline __attribute__((always_inline)) void InflowBlock(int k, const float* slots
     SubtractAtBEnds<kInPlace>(-(Load(slots + 3 * kLanes) * stretch), b, limit, j_b, j_b_overflow);
     slots += 4 * kLanes;
   }
-  Store(j_a + a, Load(j_a + a) + sum);
+  Store(j_a + a, offsets.first_group ? sum : Load(j_a + a) + sum);
 }
 
 // The blocks of `share`, from the last down: a node's b-end sum then takes its slots in order of
@@ -432,9 +435,15 @@ inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
     SubtractAtBEnds<kInPlace>(sz, b, limit, m.fbz, m.oz);
     slots += 4 * kLanes;
   }
-  Store(m.fax + a, Load(m.fax + a) + sum_x);
-  Store(m.fay + a, Load(m.fay + a) + sum_y);
-  Store(m.faz + a, Load(m.faz + a) + sum_z);
+  if (offsets.first_group) {
+    Store(m.fax + a, sum_x);
+    Store(m.fay + a, sum_y);
+    Store(m.faz + a, sum_z);
+  } else {
+    Store(m.fax + a, Load(m.fax + a) + sum_x);
+    Store(m.fay + a, Load(m.fay + a) + sum_y);
+    Store(m.faz + a, Load(m.faz + a) + sum_z);
+  }
 }
 
 // ForceBlock over the blocks of `share`, from the last down (as InflowBlocks).
@@ -463,14 +472,12 @@ inline __attribute__((always_inline)) void ForceBlocks(
 }
 #pragma GCC diagnostic pop
 
-// Whether the loops take `share` by blocks: the schedule has them and the share starts at a
-// block (and ends at one, or past the last node).
-bool ByBlocks(const SinglePrecisionSprings& springs, const SingleShare& share) {
+}  // namespace
+
+bool SingleLoopsByBlocks(const SinglePrecisionSprings& springs, const SingleShare& share) {
   return !springs.blocks.offsets.empty() && share.begin % kLanes == 0 &&
          (share.end % kLanes == 0 || share.end >= springs.num_nodes);
 }
-
-}  // namespace
 
 MSM_SIM_SIMD_CLONES
 void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, const double origin[3],
@@ -559,7 +566,7 @@ void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& s
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                      float beta, const SingleEndForces& forces,
                      const MutableSingleNodeArrays& overflow) {
-  if (ByBlocks(springs, share)) {
+  if (SingleLoopsByBlocks(springs, share)) {
     if (velocities != nullptr) {
       ForceBlocks<true, false>(springs, share, positions, velocities, beta, nullptr, forces,
                                overflow);
@@ -581,7 +588,7 @@ MSM_SIM_SIMD_CLONES
 void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                       const SingleNodeArrays& positions, float* j_a, float* j_b,
                       float* j_b_overflow) {
-  if (ByBlocks(springs, share)) {
+  if (SingleLoopsByBlocks(springs, share)) {
     InflowBlocks(springs, share, positions, j_a, j_b, j_b_overflow);
     return;
   }
@@ -600,7 +607,7 @@ void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare&
                        const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                        float beta, const float* dispersion_per_weight,
                        const SingleEndForces& forces, const MutableSingleNodeArrays& overflow) {
-  if (ByBlocks(springs, share)) {
+  if (SingleLoopsByBlocks(springs, share)) {
     if (velocities != nullptr) {
       ForceBlocks<true, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
                               forces, overflow);

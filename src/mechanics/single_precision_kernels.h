@@ -151,6 +151,12 @@ void AddSingleEndForces(const float* end_forces, long n, long begin, long end, d
 /// The same, storing the sums instead of adding them.
 void StoreSingleEndForces(const float* end_forces, long n, long begin, long end, double* vectors);
 
+/// Whether the loops below take `share` by the schedule's blocks (SinglePrecisionSprings::
+/// Blocks): it has them and the share starts at a block (and ends at one, or at the last node).
+/// Then they store the a ends' sums (forces, accumulators) of the share's nodes rather than add
+/// them: those need no clearing, and only the b ends' arrays and the overflows are added to.
+bool SingleLoopsByBlocks(const SinglePrecisionSprings& springs, const SingleShare& share);
+
 /// Plain MSM: each slot's tension (spring plus damper) applied to both ends.
 void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& share,
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
