@@ -82,7 +82,7 @@ SinglePrecisionSprings::Blocks SinglePrecisionSprings::ScheduleBlocks(
   if (offsets == 0 || offsets > kMaxBlockOffsets || springs < kMinBlockOccupancy * block_slots) {
     return {};
   }
-  // Groups of offsets whose b ends' stores never partly overlap a load a few blocks later
+  // Groups of offsets whose b ends' stores never partly overlap a load soon after
   // (offsets a multiple of 8 apart hit the same 8 nodes, or at least kGroupSeparation apart):
   // a load that partly overlaps a store still in flight waits for it to retire (offsets 39,
   // 40 and 41 in one sweep made the blocks no faster than the runs).

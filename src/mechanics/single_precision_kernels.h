@@ -74,8 +74,10 @@ struct SinglePrecisionSprings {
   /// schedule has no blocks: the phantoms would cost more than the loads saved.
   static constexpr int kMaxBlockOffsets = 16;
   static constexpr double kMinBlockOccupancy = 0.75;
-  /// Offsets of one group differ by a multiple of kAlignment or by at least this.
-  static constexpr int kGroupSeparation = 32;
+  /// Offsets of one group differ by a multiple of kAlignment or by at least this: a load that
+  /// partly overlaps a b-end store of the same sweep then comes two blocks later at the soonest
+  /// (docs/physics.md §9; 32 made more groups and measured slower).
+  static constexpr int kGroupSeparation = 16;
   int num_nodes = 0;  // the model's
 
   /// How far the loops read and write the node arrays: past the last node where a block's
