@@ -267,11 +267,10 @@ inline __attribute__((always_inline)) void ForcesImpl(
   }
 }
 
-// The blocks' loops (SinglePrecisionSprings::Blocks) in GCC's vector types, 8 floats: a
-// block's a ends then stay in registers across its offsets (as omp simd loops over a block's 8
-// nodes they went through the stack). Each clone lowers them to its own instructions (two SSE
-// halves for the baseline). The types never cross a call (everything here is inlined), so the
-// ABI note GCC gives for 32-byte vectors does not apply.
+// The blocks' loops (SinglePrecisionSprings::Blocks) in GCC's vector types of 8 floats, so that
+// a block's a ends are values, held in registers across a group's offsets. Each clone lowers them
+// to its own instructions (two SSE halves for the baseline). The types never cross a call
+// (everything here is inlined), so the ABI note GCC gives for 32-byte vectors does not apply.
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 constexpr int kLanes = SinglePrecisionSprings::kAlignment;

@@ -53,12 +53,13 @@ struct SinglePrecisionSprings {
   int num_slots() const { return static_cast<int>(rest.size()); }
 
   /// The same springs in blocks of kAlignment consecutive a nodes (empty `offsets`: none; see
-  /// Schedule): for each block, for each of the model's few distinct offsets, the 8 slots joining
-  /// the block's nodes a to a + offset (zeros where there is no spring). A block's loop keeps its
-  /// a ends' positions, velocities, g and force sums in registers across its offsets, and loads
-  /// and stores only the b ends per offset: about 14 loads and 3 stores per 8 slots in the
-  /// second pass instead of 24 and 6 along runs (docs/physics.md §9). The loops take the blocks
-  /// where a share starts and ends at multiples of kAlignment (or at the last node).
+  /// ScheduleBlocks): for each block, for each of the model's few distinct offsets, the 8 slots
+  /// joining the block's nodes a to a + offset (zeros where there is no spring). A block's loop
+  /// keeps its a ends' positions, velocities, g and force sums in registers across a group of
+  /// offsets, and loads and stores only the b ends per offset: about 14 loads and 3 stores per 8
+  /// slots in the second pass, plus the a ends' once per group, instead of 24 and 6 along runs
+  /// (docs/physics.md §9). The loops take the blocks where a share starts and ends at multiples
+  /// of kAlignment (or at the last node).
   struct Blocks {
     /// The distinct offsets in groups: offsets [group_ends[g - 1], group_ends[g]) are group g,
     /// swept over all blocks in turn (see ScheduleBlocks), ascending in each.
