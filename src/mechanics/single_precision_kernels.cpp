@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <type_traits>
 #include <utility>
 
 #include "mechanics/simd_clones.h"
@@ -333,15 +334,30 @@ struct OffsetGroup {
 };
 
 // Calls sweep(group) for each group of offsets in turn.
-template <typename Sweep>
-inline __attribute__((always_inline)) void ForOffsetGroups(
-    const SinglePrecisionSprings::Blocks& blocks, Sweep&& sweep) {
+// Calls block(in_place, k, slots, group) for each group of offsets in turn, and in it for the
+// blocks k of `share` from the last down (a node's b-end sum then takes its slots in order of
+// offset, whatever blocks ran before: NodeStages::rounds_ahead's early part runs a share's last
+// blocks first). in_place: std::true_type where every b end of block k lies below share.limit
+// (BlockInPlace), else std::false_type. Precondition: share.begin a multiple of 8.
+template <typename Block>
+inline __attribute__((always_inline)) void SweepBlocks(const SinglePrecisionSprings& springs,
+                                                       const SingleShare& share, Block&& block) {
+  const SinglePrecisionSprings::Blocks& blocks = springs.blocks;
+  const BlockRange range(share, blocks.count);
   int begin = 0;
   for (const int end : blocks.group_ends) {
     const std::size_t per_block = std::size_t{4} * kLanes * (end - begin);
-    sweep(OffsetGroup{blocks.offsets.data() + begin, blocks.offsets.data() + end,
-                      blocks.slots.data() + per_block / (end - begin) * begin * blocks.count,
-                      per_block, begin == 0});
+    const OffsetGroup group{blocks.offsets.data() + begin, blocks.offsets.data() + end,
+                            blocks.slots.data() + per_block / (end - begin) * begin * blocks.count,
+                            per_block, begin == 0};
+    for (int k = range.last - 1; k >= range.first; --k) {
+      const float* slots = group.slots + group.per_block * k;
+      if (BlockInPlace(k, springs.max_offset, share.limit, springs.num_nodes)) {
+        block(std::true_type{}, k, slots, group);
+      } else {
+        block(std::false_type{}, k, slots, group);
+      }
+    }
     begin = end;
   }
 }
@@ -367,27 +383,19 @@ inline __attribute__((always_inline)) void InflowBlock(int k, const float* slots
   Store(j_a + a, offsets.first_group ? sum : Load(j_a + a) + sum);
 }
 
-// The blocks of `share`, from the last down: a node's b-end sum then takes its slots in order of
-// offset, whatever blocks ran before (NodeStages::rounds_ahead's early part runs a share's last
-// blocks first). Precondition: share.begin a multiple of 8.
+// InflowBlock over the blocks of `share` (SweepBlocks).
 inline __attribute__((always_inline)) void InflowBlocks(const SinglePrecisionSprings& springs,
                                                         const SingleShare& share,
                                                         const SingleNodeArrays& p, float* j_a,
                                                         float* j_b, float* j_b_overflow) {
-  const SinglePrecisionSprings::Blocks& blocks = springs.blocks;
   const float *px = p.x, *py = p.y, *pz = p.z;
-  const BlockRange range(share, blocks.count);
-  ForOffsetGroups(
-      blocks, [&](const OffsetGroup& group) __attribute__((always_inline)) {
-        for (int k = range.last - 1; k >= range.first; --k) {
-          const float* slots = group.slots + group.per_block * k;
-          if (BlockInPlace(k, springs.max_offset, share.limit, springs.num_nodes)) {
-            InflowBlock<true>(k, slots, group, px, py, pz, j_a, j_b, j_b_overflow, share.limit);
-          } else {
-            InflowBlock<false>(k, slots, group, px, py, pz, j_a, j_b, j_b_overflow, share.limit);
-          }
-        }
-      });
+  SweepBlocks(
+      springs, share,
+      [&](auto in_place, int k, const float* slots, const OffsetGroup& group)
+          __attribute__((always_inline)) {
+            InflowBlock<decltype(in_place)::value>(k, slots, group, px, py, pz, j_a, j_b,
+                                                   j_b_overflow, share.limit);
+          });
 }
 
 // The node arrays and forces of a block's loop, as locals (read through the structs, GCC loaded
@@ -445,29 +453,23 @@ inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
   }
 }
 
-// ForceBlock over the blocks of `share`, from the last down (as InflowBlocks).
+// ForceBlock over the blocks of `share` (SweepBlocks).
 template <bool Damped, bool Dispersed>
 inline __attribute__((always_inline)) void ForceBlocks(
     const SinglePrecisionSprings& springs, const SingleShare& share, const SingleNodeArrays& p,
     const SingleNodeArrays* velocities, float beta, const float* g, const SingleEndForces& forces,
     const MutableSingleNodeArrays& overflow) {
-  const SinglePrecisionSprings::Blocks& blocks = springs.blocks;
   const SingleNodeArrays v = velocities != nullptr ? *velocities : SingleNodeArrays{};
   const BlockArrays m{p.x,        p.y,        p.z,        v.x,        v.y,        v.z,
                       g,          forces.a.x, forces.a.y, forces.a.z, forces.b.x, forces.b.y,
                       forces.b.z, overflow.x, overflow.y, overflow.z};
-  const BlockRange range(share, blocks.count);
-  ForOffsetGroups(
-      blocks, [&](const OffsetGroup& group) __attribute__((always_inline)) {
-        for (int k = range.last - 1; k >= range.first; --k) {
-          const float* slots = group.slots + group.per_block * k;
-          if (BlockInPlace(k, springs.max_offset, share.limit, springs.num_nodes)) {
-            ForceBlock<Damped, Dispersed, true>(k, slots, group, m, beta, share.limit);
-          } else {
-            ForceBlock<Damped, Dispersed, false>(k, slots, group, m, beta, share.limit);
-          }
-        }
-      });
+  SweepBlocks(
+      springs, share,
+      [&](auto in_place, int k, const float* slots, const OffsetGroup& group)
+          __attribute__((always_inline)) {
+            ForceBlock<Damped, Dispersed, decltype(in_place)::value>(k, slots, group, m, beta,
+                                                                     share.limit);
+          });
 }
 #pragma GCC diagnostic pop
 
