@@ -80,7 +80,8 @@ SinglePrecisionSprings::Blocks SinglePrecisionSprings::ScheduleBlocks(
   blocks.count = (runs.num_nodes + kAlignment - 1) / kAlignment;
   const double block_slots = static_cast<double>(blocks.count) * kAlignment * offsets;
   const int springs = runs.num_slots() - runs.num_phantoms;
-  if (offsets == 0 || offsets > kMaxBlockOffsets || springs < kMinBlockOccupancy * block_slots) {
+  if (offsets == 0 || offsets > kMaxBlockOffsets || springs < kMinBlockOccupancy * block_slots ||
+      runs.num_nodes > kMaxBlockNodes) {
     return {};
   }
   // Groups of offsets whose b ends' stores never partly overlap a load soon after

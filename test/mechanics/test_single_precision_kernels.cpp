@@ -184,6 +184,18 @@ TEST(SinglePrecisionSchedule, BlocksHoldEverySpringOnceInSeparatedGroups) {
   EXPECT_NEAR(rest_sum, sum(model.spring_rest_length()), 1e-6 * rest_sum);
 }
 
+// A lattice that suits the blocks but has more nodes than kMaxBlockNodes keeps the runs alone
+// (its node arrays far outgrow a core's L2, where the blocks measured slower than the runs).
+TEST(SinglePrecisionSchedule, LargeModelsKeepTheRunsAlone) {
+  const Model model = Block(0.45, 0.0018);
+  ASSERT_GT(model.num_nodes(), SinglePrecisionSprings::kMaxBlockNodes);
+  const auto springs = SinglePrecisionSprings::Schedule(model);
+  EXPECT_TRUE(springs->blocks.offsets.empty());
+  EXPECT_TRUE(springs->blocks.slots.empty());
+  EXPECT_EQ(springs->PaddedNodes(), model.num_nodes());
+  EXPECT_EQ(springs->num_slots() - springs->num_phantoms, model.num_springs());
+}
+
 // Every run starts at a node and a slot that are multiples of kAlignment, in slot arrays that
 // start a cache line: its loads at the a ends and slots never straddle two lines.
 TEST(SinglePrecisionSchedule, RunsStartAtAlignedNodesAndSlots) {
