@@ -78,7 +78,7 @@ struct SinglePrecisionSprings {
   /// Models of more nodes than this have no blocks either. Where the node arrays far outgrow a
   /// core's L2, the blocks ran slower than the runs and their times spread widely from run to
   /// run (one thread, the realtime block at nu = 0.49: 32,000 nodes 1.13x the runs' speed,
-  /// 46,575 0.93x, 62,500 0.57-0.94x; the 40^3-node cube 0.55-0.64x; docs/physics.md §9).
+  /// 46,575 0.93x, 62,500 0.53-0.80x; the 40^3-node cube 0.49-0.66x; docs/physics.md §9).
   static constexpr int kMaxBlockNodes = 40000;
   /// Offsets of one group differ by a multiple of kAlignment or by at least this: a load that
   /// partly overlaps a b-end store of the same sweep then comes two blocks later at the soonest
