@@ -481,6 +481,32 @@ bool SingleLoopsByBlocks(const SinglePrecisionSprings& springs, const SingleShar
          (share.end % kLanes == 0 || share.end >= springs.num_nodes);
 }
 
+namespace {
+
+// The force loops of SinglePlainRuns and SingleOutflowRuns: by blocks or along the runs, with
+// or without dampers (`velocities` null), each a loop compiled for its case.
+template <bool Dispersed>
+inline __attribute__((always_inline)) void Forces(const SinglePrecisionSprings& springs,
+                                                  const SingleShare& share,
+                                                  const SingleNodeArrays& p,
+                                                  const SingleNodeArrays* velocities, float beta,
+                                                  const float* g, const SingleEndForces& forces,
+                                                  const MutableSingleNodeArrays& overflow) {
+  if (SingleLoopsByBlocks(springs, share)) {
+    if (velocities != nullptr) {
+      ForceBlocks<true, Dispersed>(springs, share, p, velocities, beta, g, forces, overflow);
+    } else {
+      ForceBlocks<false, Dispersed>(springs, share, p, velocities, beta, g, forces, overflow);
+    }
+  } else if (velocities != nullptr) {
+    ForcesImpl<true, Dispersed>(springs, share, p, velocities, beta, g, forces, overflow);
+  } else {
+    ForcesImpl<false, Dispersed>(springs, share, p, velocities, beta, g, forces, overflow);
+  }
+}
+
+}  // namespace
+
 MSM_SIM_SIMD_CLONES
 void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, const double origin[3],
                         float* arrays) {
@@ -568,22 +594,7 @@ void SinglePlainRuns(const SinglePrecisionSprings& springs, const SingleShare& s
                      const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                      float beta, const SingleEndForces& forces,
                      const MutableSingleNodeArrays& overflow) {
-  if (SingleLoopsByBlocks(springs, share)) {
-    if (velocities != nullptr) {
-      ForceBlocks<true, false>(springs, share, positions, velocities, beta, nullptr, forces,
-                               overflow);
-    } else {
-      ForceBlocks<false, false>(springs, share, positions, velocities, beta, nullptr, forces,
-                                overflow);
-    }
-    return;
-  }
-  if (velocities != nullptr) {
-    ForcesImpl<true, false>(springs, share, positions, velocities, beta, nullptr, forces, overflow);
-  } else {
-    ForcesImpl<false, false>(springs, share, positions, velocities, beta, nullptr, forces,
-                             overflow);
-  }
+  Forces<false>(springs, share, positions, velocities, beta, nullptr, forces, overflow);
 }
 
 MSM_SIM_SIMD_CLONES
@@ -609,23 +620,8 @@ void SingleOutflowRuns(const SinglePrecisionSprings& springs, const SingleShare&
                        const SingleNodeArrays& positions, const SingleNodeArrays* velocities,
                        float beta, const float* dispersion_per_weight,
                        const SingleEndForces& forces, const MutableSingleNodeArrays& overflow) {
-  if (SingleLoopsByBlocks(springs, share)) {
-    if (velocities != nullptr) {
-      ForceBlocks<true, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
-                              forces, overflow);
-    } else {
-      ForceBlocks<false, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
-                               forces, overflow);
-    }
-    return;
-  }
-  if (velocities != nullptr) {
-    ForcesImpl<true, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
-                           forces, overflow);
-  } else {
-    ForcesImpl<false, true>(springs, share, positions, velocities, beta, dispersion_per_weight,
-                            forces, overflow);
-  }
+  Forces<true>(springs, share, positions, velocities, beta, dispersion_per_weight, forces,
+               overflow);
 }
 
 }  // namespace msm_sim::core
