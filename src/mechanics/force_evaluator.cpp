@@ -482,19 +482,18 @@ int ForceEvaluator::SingleShares() const {
 }
 
 Eigen::Index ForceEvaluator::SingleStride() const {
-  constexpr Eigen::Index kLine = kCacheLineBytes / sizeof(float);
-  const Eigen::Index reach = single_ ? single_->PaddedNodes() : model_->num_nodes();
-  return (reach + kLine - 1) / kLine * kLine;
+  return WholeCacheLinesOfFloats(single_ ? single_->PaddedNodes() : model_->num_nodes());
 }
 
 namespace {
 
+// Node i rounded down to the runs' alignment, where a share's loops start.
+int AlignDown(long long i) { return static_cast<int>(i - i % SinglePrecisionSprings::kAlignment); }
+
 // Share t's first node of `count` equal shares of n nodes: a multiple of the runs' alignment
 // (a share's loops start there), 0 for the first, n after the last.
 int EqualShareBound(long long n, int t, int count) {
-  if (t == count) return static_cast<int>(n);
-  const long long bound = n * t / count;
-  return static_cast<int>(bound - bound % SinglePrecisionSprings::kAlignment);
+  return t == count ? static_cast<int>(n) : AlignDown(n * t / count);
 }
 
 }  // namespace
@@ -516,7 +515,6 @@ void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double bu
     // at which the work before it reaches t / count of the whole, rounded down to the runs'
     // alignment (EqualShareBound), every share keeping some nodes.
     constexpr int kAlign = SinglePrecisionSprings::kAlignment;
-    const auto align_down = [](int i) { return i - i % kAlign; };
     const double total = n + busy_work * static_cast<double>(busy.size());
     bounds.assign(count + 1, n);
     bounds[0] = 0;
@@ -525,7 +523,7 @@ void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double bu
     int t = 1;
     for (int i = 0; i < n && t < count; ++i) {
       while (t < count && work >= total * t / count) {
-        bounds[t] = std::max(align_down(i), bounds[t - 1] + kAlign);
+        bounds[t] = std::max(AlignDown(i), bounds[t - 1] + kAlign);
         ++t;
       }
       const bool is_busy = next_busy < busy.size() && busy[next_busy] == i;
@@ -533,7 +531,7 @@ void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double bu
       work += 1.0 + (is_busy ? busy_work : 0.0);
     }
     for (int u = count - 1; u >= 1; --u) {
-      bounds[u] = std::min(bounds[u], align_down(bounds[u + 1] - 1));
+      bounds[u] = std::min(bounds[u], AlignDown(bounds[u + 1] - 1));
     }
   }
   if (bounds != share_bounds_) {
@@ -627,8 +625,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
   ahead_ = TakenAhead{};
   const bool ahead = stages_ != nullptr && stages_->rounds_ahead && !barrier_;
   const long length = single_->max_offset;
-  constexpr long kLine = kCacheLineBytes / sizeof(float);
-  const long overflow_stride = (length + kLine - 1) / kLine * kLine;  // blocks start a line
+  const long overflow_stride = WholeCacheLinesOfFloats(length);  // blocks start a line
   single_overflows_.resize(4 * overflow_stride * count);
   const auto overflow = [&](int t, int block) {
     return single_overflows_.data() + 4 * overflow_stride * t + overflow_stride * block;

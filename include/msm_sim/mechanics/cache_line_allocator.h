@@ -39,4 +39,11 @@ struct CacheLineAllocator {
 /// Floats from the start of a cache line.
 using CacheLineFloats = std::vector<float, CacheLineAllocator<float>>;
 
+/// `count` floats rounded up to whole cache lines: blocks of this many floats, laid one after
+/// another from the start of a line, each start one.
+constexpr long WholeCacheLinesOfFloats(long count) {
+  constexpr long kLine = kCacheLineBytes / sizeof(float);
+  return (count + kLine - 1) / kLine * kLine;
+}
+
 }  // namespace msm_sim::core
