@@ -334,7 +334,6 @@ struct OffsetGroup {
   bool first_group;
 };
 
-// Calls sweep(group) for each group of offsets in turn.
 // Calls block(in_place, k, slots, group) for each group of offsets in turn, and in it for the
 // blocks k of `share` from the last down (a node's b-end sum then takes its slots in order of
 // offset, whatever blocks ran before: NodeStages::rounds_ahead's early part runs a share's last
@@ -349,7 +348,7 @@ inline __attribute__((always_inline)) void SweepBlocks(const SinglePrecisionSpri
   for (const int end : blocks.group_ends) {
     const std::size_t per_block = std::size_t{4} * kLanes * (end - begin);
     const OffsetGroup group{blocks.offsets.data() + begin, blocks.offsets.data() + end,
-                            blocks.slots.data() + per_block / (end - begin) * begin * blocks.count,
+                            blocks.slots.data() + std::size_t{4} * kLanes * begin * blocks.count,
                             per_block, begin == 0};
     for (int k = range.last - 1; k >= range.first; --k) {
       const float* slots = group.slots + group.per_block * k;
@@ -443,15 +442,9 @@ inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
     SubtractAtBEnds<kInPlace>(sz, b, limit, m.fbz, m.oz);
     slots += 4 * kLanes;
   }
-  if (offsets.first_group) {
-    Store(m.fax + a, sum_x);
-    Store(m.fay + a, sum_y);
-    Store(m.faz + a, sum_z);
-  } else {
-    Store(m.fax + a, Load(m.fax + a) + sum_x);
-    Store(m.fay + a, Load(m.fay + a) + sum_y);
-    Store(m.faz + a, Load(m.faz + a) + sum_z);
-  }
+  Store(m.fax + a, offsets.first_group ? sum_x : Load(m.fax + a) + sum_x);
+  Store(m.fay + a, offsets.first_group ? sum_y : Load(m.fay + a) + sum_y);
+  Store(m.faz + a, offsets.first_group ? sum_z : Load(m.faz + a) + sum_z);
 }
 
 // ForceBlock over the blocks of `share` (SweepBlocks).
