@@ -69,6 +69,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/experiments/calculix_reference.cpp
   ${MSM_SIM_DIR}/src/experiments/cantilever_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/compression_experiment.cpp
+  ${MSM_SIM_DIR}/src/experiments/grasp_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/grip_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/hardy_stress.cpp
   ${MSM_SIM_DIR}/src/experiments/indentation_curve.cpp

@@ -16,11 +16,12 @@ namespace {
 
 constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
                                      "slide",       "realtime",   "indent",        "fit",
-                                     "grip",        "material"};
+                                     "grip",        "grasp",      "material"};
 
 // The sphere commands' model options: --model defaults to cubic.
 bool ModelOptional(Body body) {
-  return body == Body::kBlock || body == Body::kDefaultBlock || body == Body::kFitBlock;
+  return body == Body::kBlock || body == Body::kDefaultBlock || body == Body::kFitBlock ||
+         body == Body::kGraspObject;
 }
 
 // --size and/or --mesh with its --scale and --antialias; returns --size (nullptr for kMesh).
@@ -33,7 +34,9 @@ CLI::Option* AddBodyOptions(CLI::App* command, ModelArguments* model, std::vecto
       size_option->required();
     }
   }
-  if (body != Body::kBoxOrMesh && body != Body::kMesh) return size_option;
+  if (body != Body::kBoxOrMesh && body != Body::kMesh && body != Body::kGraspObject) {
+    return size_option;
+  }
   auto* mesh_option = command->add_option(
       "--mesh", model->mesh, "closed triangle mesh (STL, OBJ, PLY, OFF, DAE, glTF, ...)");
   if (size_option != nullptr) {
@@ -59,7 +62,7 @@ void AddSpacingOptions(CLI::App* command, ModelArguments* model, Body body) {
   auto* spacing_option =
       command->add_option("--spacing", model->spacing,
                           "lattice spacing a (m); for --model random the characteristic spacing l");
-  const bool optional = body == Body::kFitBlock;
+  const bool optional = body == Body::kFitBlock || body == Body::kGraspObject;
   if ((body == Body::kBox || ModelOptional(body)) && !optional) spacing_option->required();
   if (body == Body::kBoxOrMesh || body == Body::kMesh || optional) {
     command
@@ -276,6 +279,7 @@ std::string MissingBodyOption(const CommandLine& line) {
       line.material->get_option("--shore-00")->count() == 0) {
     return "material needs --shore-a S or --shore-00 S";
   }
+  if (line.grasp->parsed()) return GraspShapeProblem(line);
   if (line.compression->parsed() && line.size.empty() && model.mesh.empty()) {
     return "compression needs --size LX LY LZ or --mesh FILE";
   }
@@ -354,6 +358,8 @@ LabArguments ParsedArguments(CommandLine* line) {
   } else if (line->grip->parsed()) {
     arguments.command = LabCommand::kGrip;
     ApplyGripDefaults(line);
+  } else if (line->grasp->parsed()) {
+    arguments.command = LabCommand::kGrasp;
   } else {
     arguments.command = LabCommand::kPoissonSweep;
     ApplySweepDefaults(line);
@@ -383,12 +389,13 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   AddSlideCommand(&app, &line);
   AddSphereCommands(&app, &line);
   AddGripCommand(&app, &line);
+  AddGraspCommand(&app, &line);
   AddMaterialCommand(&app, &line);
 
   if (IsUnknownCommand(argv)) {
     return Failure("unknown command '" + argv[1] +
                    "' (expected compression, deflection, poisson-sweep, build, slide, realtime, "
-                   "indent, fit, grip or material)");
+                   "indent, fit, grip, grasp or material)");
   }
   // CLI11 wants argv without the program name, in reverse order.
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());

@@ -44,6 +44,7 @@ enum class LabCommand {
   kIndent,
   kFit,
   kGrip,
+  kGrasp,
   kMaterial
 };
 
@@ -95,6 +96,20 @@ struct GripArguments {
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
 };
 
+/// `msm_lab grasp`: a parallel gripper closes on an object, holds and lifts it
+/// (core::RunGraspExperiment; its defaults).
+struct GraspArguments {
+  std::string shape = "box";            ///< box | sphere | cylinder | ellipsoid | mesh
+  double radius = 0.0;                  ///< m, sphere and cylinder
+  double length = 0.0;                  ///< m, cylinder (its axis along y, across the pads)
+  double friction = 0.8;                ///< mu between the object and the pads (and the ground)
+  double force_ratio = 1.5;             ///< Q = 2 mu F_n / (m g)
+  double lift = 0.05;                   ///< m
+  double lift_time = 1.0;               ///< s
+  double damping = 1e-3;                ///< s, spring dampers c = beta k
+  std::string integrator = "explicit";  ///< explicit | implicit
+};
+
 /// `msm_lab material`: Young's modulus from a datasheet's Shore hardness (exactly one of them).
 struct HardnessArguments {
   double shore_a = 0.0;
@@ -124,6 +139,7 @@ struct LabArguments {
   ContactArguments contact;
   FitArguments fit;
   GripArguments grip;
+  GraspArguments grasp;
   HardnessArguments hardness;
   bool json = false;
 };

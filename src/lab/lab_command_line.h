@@ -3,6 +3,7 @@
 // parser, the model options and the static commands) and lab_sphere_arguments.cpp (the commands
 // that press a rigid sphere into a block). Private to the lab library.
 
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -20,6 +21,7 @@ enum class Body {
   kBlock,         // --size required, --model optional (cubic): indent
   kDefaultBlock,  // --size, --model, --youngs, --density optional (defaults): realtime, grip
   kFitBlock,      // --size required; --model, --spacing, --poisson optional, no --youngs: fit
+  kGraspObject,   // --size or --mesh or neither (the shape's own options), --model optional
 };
 
 // What CLI11 fills in besides LabArguments: vectors it checks the length of, copied into the
@@ -41,6 +43,7 @@ struct CommandLine {
   CLI::App* indent = nullptr;
   CLI::App* fit = nullptr;
   CLI::App* grip = nullptr;
+  CLI::App* grasp = nullptr;
   CLI::App* material = nullptr;
 };
 
@@ -55,5 +58,12 @@ void AddSphereCommands(CLI::App* app, CommandLine* line);
 
 /// The grip command (lab_grip_arguments.cpp).
 void AddGripCommand(CLI::App* app, CommandLine* line);
+
+/// The grasp command (lab_grasp_arguments.cpp).
+void AddGraspCommand(CLI::App* app, CommandLine* line);
+
+/// grasp: the shape's own options (--size, --radius, --length, --mesh) agree with --shape; the
+/// reason when they do not, empty otherwise.
+std::string GraspShapeProblem(const CommandLine& line);
 
 }  // namespace msm_sim::lab

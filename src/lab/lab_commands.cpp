@@ -13,6 +13,7 @@
 
 #include "lab_dynamics_commands.h"
 #include "lab_fit_command.h"
+#include "lab_grasp_command.h"
 #include "lab_material_command.h"
 #include "lab_model.h"
 #include "lab_reference.h"
@@ -399,6 +400,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunFit(arguments, out, err);
     case LabCommand::kGrip:
       return RunGrip(arguments, out);
+    case LabCommand::kGrasp:
+      return RunGrasp(arguments, out);
     case LabCommand::kMaterial:
       return RunMaterial(arguments, out);
   }
