@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake
   catkin python3-catkin-pkg ros-core-dev ros-message-generation ros-message-runtime
-  libroscpp-dev librosbag-dev libtf2-dev libtf2-ros-dev
+  libroscpp-dev librosbag-dev libtf2-dev libtf2-ros-dev libros-rosgraph-msgs-dev
   libstd-msgs-dev libgeometry-msgs-dev ros-std-msgs ros-geometry-msgs
   libsensor-msgs-dev libvisualization-msgs-dev libstd-srvs-dev libdiagnostic-msgs-dev
   ros-sensor-msgs ros-visualization-msgs ros-std-srvs ros-diagnostic-msgs
@@ -26,6 +26,8 @@ packages=(
   calculix-ccx
   # The robot demo and its check with a real client (rviz on a virtual display).
   ros-robot-state-publisher python3-rospy rviz xvfb imagemagick
+  # The grasp demo's script reads the object's frame from /tf.
+  python3-tf2-msgs
 )
 
 missing=()

@@ -221,8 +221,7 @@ Replayer::Replayer(const ReplayOptions& options, const SimulationConfig& config,
 void Replayer::AdvanceTo(const ros::Time& until) {
   while (next_tick_ <= until) {
     const double seconds = (next_tick_ - start_).toSec() - simulation_.time();
-    simulation_.UpdateRobot(tf_, next_tick_, seconds);
-    simulation_.Advance(seconds, next_tick_, ros::WallTime());
+    simulation_.Advance(seconds, next_tick_, ros::WallTime(), &tf_, start_);
     PublishOutputs(next_tick_);
     next_tick_ += ros::Duration(period_);
   }

@@ -14,17 +14,17 @@
 namespace msm_sim::ros_interface {
 namespace {
 
-// Places the collider at `start` with the twist that takes it to `end` in `seconds` (the World
-// advances colliders with their twists); at `end`, still, if seconds is 0.
-void MoveCollider(const Eigen::Isometry3d& start, const Eigen::Isometry3d& end, double seconds,
-                  core::Collider* collider) {
+// Gives the collider the twist that takes it from where it is to `end` in `seconds` (the World
+// advances colliders with their twists); at `end`, still, if seconds is 0. Never a jump: a
+// collider pressing on a body keeps pressing instead of appearing inside it.
+void MoveColliderTo(const Eigen::Isometry3d& end, double seconds, core::Collider* collider) {
   collider->linear_velocity.setZero();
   collider->angular_velocity.setZero();
   if (!(seconds > 0.0)) {
     collider->pose = end;
     return;
   }
-  collider->pose = start;
+  const Eigen::Isometry3d& start = collider->pose;
   collider->linear_velocity = (end.translation() - start.translation()) / seconds;
   const Eigen::AngleAxisd turn(end.linear() * start.linear().transpose());
   collider->angular_velocity = turn.axis() * (turn.angle() / seconds);
@@ -145,28 +145,42 @@ int RobotColliders::LinkOfCollider(int collider) const {
   return -1;
 }
 
-void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now, double seconds) {
+Eigen::Isometry3d RobotColliders::PoseAt(const tf2::BufferCore& buffer, const std::string& link,
+                                         const ros::Time& at,
+                                         const geometry_msgs::TransformStamped& latest) const {
+  const ros::Time stamp = latest.header.stamp;
+  // Static transforms (stamp 0) hold at every time; past the latest sample, the latest.
+  if (stamp.isZero() || at.toSec() <= config_.tf_delay) return ToIsometry(latest.transform);
+  const ros::Time target = at - ros::Duration(config_.tf_delay);
+  if (target >= stamp) return ToIsometry(latest.transform);
+  try {
+    return ToIsometry(buffer.lookupTransform(world_frame_, link, target).transform);
+  } catch (const tf2::TransformException&) {
+    return ToIsometry(latest.transform);  // older than the buffer keeps
+  }
+}
+
+void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now,
+                            const ros::Time& at, double seconds) {
   for (Link& link : links_) {
     bool fresh = false;
     try {
-      const geometry_msgs::TransformStamped transform =
+      const geometry_msgs::TransformStamped latest =
           buffer.lookupTransform(world_frame_, link.name, ros::Time(0));
-      const Eigen::Isometry3d pose = ToIsometry(transform.transform);
-      const ros::Time stamp = transform.header.stamp;
+      const ros::Time stamp = latest.header.stamp;
       // Static transforms carry stamp 0 and never go stale.
       fresh = stamp.isZero() || (now - stamp).toSec() <= config_.tf_timeout;
-      // Over the coming `seconds` the colliders travel from where the last update sent them
-      // to the latest tf pose, at constant twist: never ahead of tf. (Extrapolating the last
-      // twist over a publication period carried a fingertip whose tf jumped 14 mm in 10 ms
-      // another 46 mm on, through the block, which stayed dented.)
       if (fresh) {
-        const Eigen::Isometry3d from = link.has_pose ? link.pose : pose;
+        // Along tf's own samples, interpolated, tf_delay behind `at`: never ahead of tf (an
+        // extrapolated twist once carried a fingertip through a block), never a jump (a link
+        // seen for the first time, or again after its contacts were off, is placed at once).
+        const Eigen::Isometry3d pose = PoseAt(buffer, link.name, at, latest);
+        const double travel = link.live ? seconds : 0.0;
         link.pose = pose;
         link.stamp = stamp;
         link.has_pose = true;
         for (std::size_t k = 0; k < link.colliders.size(); ++k) {
-          MoveCollider(from * link.origins[k], pose * link.origins[k], seconds,
-                       &world_->collider(link.colliders[k]));
+          MoveColliderTo(pose * link.origins[k], travel, &world_->collider(link.colliders[k]));
         }
       }
     } catch (const tf2::TransformException& e) {

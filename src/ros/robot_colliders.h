@@ -1,11 +1,12 @@
 #pragma once
 // A robot's links as kinematic colliders: collision geometry from the URDF, poses from tf2,
-// each moved from its previous pose to its latest one over the next simulated interval (README
-// "Robot in the loop").
+// each moved from where it is to its tf pose over the next simulated step (docs/node.md, "Robot
+// in the loop").
 
 #include <string>
 #include <vector>
 
+#include <geometry_msgs/TransformStamped.h>
 #include <ros/ros.h>
 #include <tf2/buffer_core.h>
 #include <Eigen/Geometry>
@@ -34,12 +35,15 @@ class RobotColliders {
   RobotColliders(const RobotConfig& config, const std::string& description,
                  const std::string& world_frame, core::World* world);
 
-  /// The links' latest tf poses at `now`, to be reached over the next `seconds` (>= 0) of
-  /// simulation: each collider is placed where the previous update sent it, with the twist that
-  /// takes it to the new pose in that time (0: placed there at once, still). A link whose
-  /// transform is missing or older than the timeout gets its contacts turned off (throttled
-  /// warning) until tf returns.
-  void Update(const tf2::BufferCore& buffer, const ros::Time& now, double seconds);
+  /// Sends the links' colliders towards their tf poses at ROS time `at` minus robot/tf_delay
+  /// (interpolated between tf's samples; the latest pose when `at` is past it), to be reached
+  /// over the next `seconds` (>= 0) of simulation: each collider moves from where it is with
+  /// the twist that takes it there in that time, never jumping. A link seen for the first time,
+  /// or again after its contacts were off, is placed at once. A link whose latest transform is
+  /// missing or older than tf_timeout at `now` gets its contacts turned off (throttled warning)
+  /// until tf returns.
+  void Update(const tf2::BufferCore& buffer, const ros::Time& now, const ros::Time& at,
+              double seconds);
 
   const std::vector<Link>& links() const { return links_; }
   /// The link a World collider belongs to, or -1.
@@ -54,6 +58,11 @@ class RobotColliders {
   std::vector<Link> links_;
   std::vector<std::string> problems_;
   void Problem(const std::string& message);
+  /// The link's pose at `at` - tf_delay, or `latest` (its latest transform) when that time is
+  /// past it, before the buffer's oldest sample, or the transform is static.
+  Eigen::Isometry3d PoseAt(const tf2::BufferCore& buffer, const std::string& link,
+                           const ros::Time& at,
+                           const geometry_msgs::TransformStamped& latest) const;
 };
 
 }  // namespace msm_sim::ros_interface

@@ -174,9 +174,8 @@ std::string Simulation::SetWrench(std::size_t index, const geometry_msgs::Wrench
   return {};
 }
 
-void Simulation::UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now, double seconds) {
-  const double dt = config_.world.time_step;
-  robot_->Update(tf, now, std::max(0.0, std::floor(seconds / dt + 1e-9)) * dt);
+void Simulation::PlaceRobot(const tf2::BufferCore& tf, const ros::Time& now) {
+  robot_->Update(tf, now, now, 0.0);
 }
 
 void Simulation::Reset() {
@@ -231,11 +230,13 @@ std::string Simulation::SetPublishing(double publish_rate, bool real_time) {
   return {};
 }
 
-void Simulation::Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline) {
+void Simulation::Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline,
+                         const tf2::BufferCore* tf, const ros::Time& robot_origin) {
   const double dt = config_.world.time_step;
   const int steps = static_cast<int>(std::floor(seconds / dt + 1e-9));
   for (int k = 0; k < steps; ++k) {
     if (!deadline.isZero() && ros::WallTime::now() > deadline) break;
+    if (tf != nullptr) robot_->Update(*tf, now, robot_origin + ros::Duration(time() + dt), dt);
     ApplyHeldWrenches(now);
     const ros::WallTime start = ros::WallTime::now();
     const core::StepReport report = world_.Step(dt);

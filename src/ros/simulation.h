@@ -48,12 +48,16 @@ class Simulation {
   /// std::out_of_range otherwise) until the next message, or for 0.5 s of `now` without one.
   std::string SetWrench(std::size_t input, const geometry_msgs::WrenchStamped& message,
                         const ros::Time& now, const tf2::BufferCore& tf);
-  /// Robot link poses from tf at `now`, reached over the whole steps the next Advance(seconds)
-  /// takes (RobotColliders::Update).
-  void UpdateRobot(const tf2::BufferCore& tf, const ros::Time& now, double seconds);
+  /// Places the robot's links at their tf poses of `now` (RobotColliders::Update over no time):
+  /// what a paused simulation shows.
+  void PlaceRobot(const tf2::BufferCore& tf, const ros::Time& now);
   /// Steps `seconds` of simulation (whole time steps), stopping early after `deadline` (zero:
-  /// none); `now` (ROS time) ages the held wrench inputs.
-  void Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline);
+  /// none); `now` (ROS time) ages the held wrench inputs and the robot's tf. With `tf`, before
+  /// each step the robot's links move towards their tf poses at ROS time `robot_origin` plus
+  /// the step's end time (RobotColliders::Update): the robot follows tf's trajectory in
+  /// simulated time, however fast the simulation runs.
+  void Advance(double seconds, const ros::Time& now, const ros::WallTime& deadline,
+               const tf2::BufferCore* tf = nullptr, const ros::Time& robot_origin = ros::Time());
   void Reset();
   /// Recalibrates an object; returns an empty string or why it was refused.
   std::string SetMaterial(const std::string& object, double youngs, double poisson, double density,

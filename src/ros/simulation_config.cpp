@@ -36,6 +36,7 @@ const std::set<std::string> kWorldKeys = {"frame",
                                           "time_step",
                                           "publish_rate",
                                           "real_time",
+                                          "publish_clock",
                                           "max_force",
                                           "time_step_safety",
                                           "max_substep_refinement",
@@ -44,8 +45,8 @@ const std::set<std::string> kWorldKeys = {"frame",
                                           "spring_precision",
                                           "penetration_recovery_time",
                                           "penetration_max_speed"};
-const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout", "links",
-                                          "link_friction"};
+const std::set<std::string> kRobotKeys = {"description_param", "friction", "tf_timeout",
+                                          "tf_delay",          "links",    "link_friction"};
 const std::set<std::string> kMarkerKeys = {"colour_by_strain", "strain_range", "nodes", "springs"};
 
 WorldConfig ReadWorld(XmlRpcValue& world) {
@@ -65,6 +66,7 @@ WorldConfig ReadWorld(XmlRpcValue& world) {
   config.time_step = Positive(world, "time_step", config.time_step, path);
   config.publish_rate = Positive(world, "publish_rate", config.publish_rate, path);
   config.real_time = Flag(world, "real_time", config.real_time, path);
+  config.publish_clock = Flag(world, "publish_clock", config.publish_clock, path);
   config.max_force = Positive(world, "max_force", config.max_force, path);
   config.time_step_safety = Positive(world, "time_step_safety", config.time_step_safety, path);
   if (config.time_step_safety > 1.0) {
@@ -130,6 +132,7 @@ RobotConfig ReadRobot(XmlRpcValue& robot) {
   r.description_param = Text(robot, "description_param", r.description_param, "~robot");
   r.friction = NonNegative(robot, "friction", r.friction, "~robot");
   r.tf_timeout = Positive(robot, "tf_timeout", r.tf_timeout, "~robot");
+  r.tf_delay = NonNegative(robot, "tf_delay", r.tf_delay, "~robot");
   if (Has(robot, "links")) {
     XmlRpcValue& links = robot["links"];
     if (links.getType() != XmlRpcValue::TypeArray) Fail("~robot/links", "expected a list");

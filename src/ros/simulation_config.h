@@ -84,7 +84,11 @@ struct WorldConfig {
   double time_step = 1e-3;     ///< s per simulation step (subdivided when unstable)
   double publish_rate = 30.0;  ///< Hz of markers, contacts, state, tf, diagnostics
   bool real_time = true;       ///< false: as fast as possible
-  double max_force = 1e4;      ///< N; larger applied forces are dropped as absurd
+  /// Publish /clock with the simulated time, as gazebo_ros does: the rest of the stack runs with
+  /// use_sim_time and follows the simulation whatever its real-time factor. real_time then
+  /// only keeps the simulation from running ahead of the wall clock.
+  bool publish_clock = false;
+  double max_force = 1e4;  ///< N; larger applied forces are dropped as absurd
   /// Fraction of the explicit stability limit used as substep, (0, 1]: lower is slower but
   /// resolves contacts more finely (docs/physics.md §7).
   double time_step_safety = 0.8;
@@ -120,6 +124,10 @@ struct RobotConfig {
   double friction = 0.5;
   std::map<std::string, double> link_friction;  ///< per link, overrides `friction`
   double tf_timeout = 0.25;  ///< s: a link whose tf is older has its contacts off
+  /// s, >= 0: the links follow tf this far behind the simulated time, so that they move along
+  /// tf's samples (interpolated) instead of waiting at the latest one for the next; at least
+  /// the period of the joint states plus one publication period.
+  double tf_delay = 0.1;
 };
 
 struct SimulationConfig {

@@ -1,12 +1,29 @@
 #include "simulation_node.h"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
+
+#include <rosgraph_msgs/Clock.h>
 
 #include "msm_sim/material/shore_hardness.h"
 
 namespace msm_sim::ros_interface {
+namespace {
+
+// With world/publish_clock, /clock advances in ticks of this much simulated time (s): fine
+// enough for joint states published on it to move a robot smoothly (robot/tf_delay covers a
+// few ticks), coarse enough to cost nothing beside the steps.
+constexpr double kClockPeriod = 0.005;
+
+// The ROS time at which the simulated time was 0, if `now` is the ROS time at `simulated`
+// seconds (never before ROS time 0).
+ros::Time OriginOf(const ros::Time& now, double simulated) {
+  return now - ros::Duration(std::min(simulated, now.toSec()));
+}
+
+}  // namespace
 
 std::string RobotDescriptionParameter(const RobotConfig& config) {
   if (!config.enabled) return {};
@@ -26,6 +43,14 @@ SimulationNode::SimulationNode(ros::NodeHandle handle, ros::NodeHandle private_h
   state_ = private_handle_.advertise<sensor_msgs::PointCloud2>("state", 1);
   contact_points_ = private_handle_.advertise<sensor_msgs::PointCloud2>("contact_points", 10);
   diagnostics_ = handle_.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  if (config.world.publish_clock) {
+    clock_ = handle_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+    if (!ros::Time::isSimTime()) {
+      ROS_WARN(
+          "msm_sim: world/publish_clock is on but /use_sim_time is not: set the parameter "
+          "/use_sim_time to true before the nodes start, so that they follow the simulated time");
+    }
+  }
   for (const RobotColliders::Link& link : simulation_->robot().links()) {
     link_wrenches_.push_back(private_handle_.advertise<geometry_msgs::WrenchStamped>(
         "links/" + link.name + "/wrench", 10));
@@ -57,7 +82,11 @@ void SimulationNode::StartTimer() {
   timer_.stop();
   wall_timer_.stop();
   const WorldConfig& world = simulation_->config().world;
-  if (world.real_time) {
+  if (world.publish_clock) {
+    // The simulation owns the clock: a ROS timer would wait for the /clock it publishes.
+    wall_timer_ =
+        handle_.createWallTimer(ros::WallDuration(1e-3), &SimulationNode::OnClockTimer, this);
+  } else if (world.real_time) {
     // ros::Timer follows ROS time, so with use_sim_time /clock drives the stepping.
     timer_ = handle_.createTimer(ros::Duration(1.0 / world.publish_rate), &SimulationNode::OnTimer,
                                  this);
@@ -82,7 +111,7 @@ std::string SimulationNode::SetPublishing(double publish_rate, bool real_time) {
 void SimulationNode::OnTimer(const ros::TimerEvent& event) {
   const ros::Time now = event.current_real;
   if (!started_) {
-    origin_ = now - ros::Duration(simulation_->time());  // 0 unless it ran unpaced before
+    origin_ = OriginOf(now, simulation_->time());  // 0 unless it ran unpaced before
     started_ = true;
   }
   if (!paused_) {
@@ -94,13 +123,13 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
       origin_ += ros::Duration(behind - 0.5);
       behind = 0.5;
     }
-    simulation_->UpdateRobot(tf_buffer_, now, behind);
     simulation_->Advance(
         behind, now,
-        ros::WallTime::now() + ros::WallDuration(0.8 / simulation_->config().world.publish_rate));
+        ros::WallTime::now() + ros::WallDuration(0.8 / simulation_->config().world.publish_rate),
+        &tf_buffer_, origin_);
   } else {
-    simulation_->UpdateRobot(tf_buffer_, now, 0.0);
-    origin_ = now - ros::Duration(simulation_->time());  // paused time does not count
+    simulation_->PlaceRobot(tf_buffer_, now);
+    origin_ = OriginOf(now, simulation_->time());  // paused time does not count
   }
   Publish(now);
 }
@@ -108,10 +137,48 @@ void SimulationNode::OnTimer(const ros::TimerEvent& event) {
 void SimulationNode::OnWallTimer(const ros::WallTimerEvent&) {
   // As fast as possible: one publication interval of simulated time per call.
   const ros::Time now = ros::Time::now();
-  const double seconds = paused_ ? 0.0 : 1.0 / simulation_->config().world.publish_rate;
-  simulation_->UpdateRobot(tf_buffer_, now, seconds);
-  if (!paused_) simulation_->Advance(seconds, now, ros::WallTime());
+  const double seconds = 1.0 / simulation_->config().world.publish_rate;
+  if (paused_) {
+    simulation_->PlaceRobot(tf_buffer_, now);
+  } else {
+    // The robot's tf of the coming interval of ROS time drives these steps.
+    simulation_->Advance(seconds, now, ros::WallTime(), &tf_buffer_,
+                         OriginOf(now, simulation_->time()));
+  }
   Publish(now);
+}
+
+void SimulationNode::OnClockTimer(const ros::WallTimerEvent&) {
+  const ros::WallTime wall = ros::WallTime::now();
+  const WorldConfig& world = simulation_->config().world;
+  const double period = 1.0 / world.publish_rate;
+  if (!started_ || paused_) {
+    // Paused time does not count towards the real-time pacing.
+    wall_origin_ = wall - ros::WallDuration(simulation_->time());
+    started_ = true;
+  }
+  if (paused_) {
+    if ((wall - last_publish_wall_).toSec() < period) return;
+    simulation_->PlaceRobot(tf_buffer_, ros::Time(simulation_->time()));
+    Publish(ros::Time(simulation_->time()));
+    return;
+  }
+  // With real_time, never ahead of the wall clock; far behind, let the rest go.
+  const double ahead = simulation_->time() + period - (wall - wall_origin_).toSec();
+  if (world.real_time && ahead > 0.0) return;
+  if (-ahead > 0.5) wall_origin_ = wall - ros::WallDuration(simulation_->time() + 0.5);
+  const double step = world.time_step;
+  const double clock_period = std::max(1.0, std::round(kClockPeriod / step)) * step;
+  for (double done = 0.0; done < period - 1e-9;) {
+    const double tick = std::min(clock_period, period - done);
+    simulation_->Advance(tick, ros::Time(simulation_->time()), ros::WallTime(), &tf_buffer_,
+                         ros::Time());
+    done += tick;
+    rosgraph_msgs::Clock clock;
+    clock.clock = ros::Time(simulation_->time());
+    clock_.publish(clock);
+  }
+  Publish(ros::Time(simulation_->time()));
 }
 
 void SimulationNode::Publish(const ros::Time& stamp) {
@@ -165,6 +232,7 @@ void SimulationNode::OnWrench(std::size_t index,
 bool SimulationNode::OnReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   simulation_->Reset();
   origin_ = ros::Time::now();
+  started_ = false;  // publish_clock: the clock starts again from 0
   response.success = true;
   response.message = "every object is back at rest in its rest shape";
   return true;
@@ -179,7 +247,7 @@ bool SimulationNode::OnPause(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
 
 bool SimulationNode::OnResume(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   paused_ = false;
-  origin_ = ros::Time::now() - ros::Duration(simulation_->time());
+  origin_ = OriginOf(ros::Time::now(), simulation_->time());
   response.success = true;
   response.message = "running";
   return true;

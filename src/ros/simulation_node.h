@@ -34,6 +34,9 @@ class SimulationNode {
  private:
   void OnTimer(const ros::TimerEvent& event);
   void OnWallTimer(const ros::WallTimerEvent& event);
+  /// world/publish_clock: steps a publication period (or what the wall clock allows, with
+  /// real_time), publishing /clock every kClockPeriod of simulated time.
+  void OnClockTimer(const ros::WallTimerEvent& event);
   void Publish(const ros::Time& stamp);
   void OnApplyForce(const msm_sim::ContactForce::ConstPtr& message);
   void OnWrench(std::size_t input, const geometry_msgs::WrenchStamped::ConstPtr& message);
@@ -54,6 +57,7 @@ class SimulationNode {
 
   ros::Publisher markers_, contacts_, state_, diagnostics_;
   ros::Publisher contact_points_;
+  ros::Publisher clock_;                        // /clock, with world/publish_clock
   std::vector<ros::Publisher> link_wrenches_;   // ~links/<link>/wrench, per robot link
   std::vector<ros::Publisher> link_pressures_;  // ~links/<link>/pressure, per robot link
   ros::Subscriber apply_force_;
@@ -68,7 +72,8 @@ class SimulationNode {
   std::map<std::string, ros::WallTime> last_warning_;  // per kind of dropped message
 
   bool paused_ = false;
-  ros::Time origin_;  // ROS time at which the simulation time was 0 (real-time pacing)
+  ros::Time origin_;           // ROS time at which the simulation time was 0 (real-time pacing)
+  ros::WallTime wall_origin_;  // wall time at which the simulation time was 0 (publish_clock)
   ros::Time last_frame_stamp_;
   bool started_ = false;
   ros::WallTime last_publish_wall_;

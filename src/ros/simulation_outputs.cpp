@@ -200,6 +200,7 @@ diagnostic_msgs::DiagnosticArray Simulation::Diagnostics(const ros::Time& stamp,
   }
   for (const Object& object : objects_) {
     add("nodes " + object.config.name, std::to_string(world_.model(object.body).num_nodes()));
+    add("mass " + object.config.name + " [kg]", text(world_.model(object.body).masses().sum()));
     add("energy " + object.config.name + " [J]", text(world_.ComputeEnergies(object.body).total()));
   }
   // The calibrated springs, so that a new material (~set_material, ~reconfigure) shows.

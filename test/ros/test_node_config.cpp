@@ -85,6 +85,28 @@ TEST(WorldConfig, IntegratorAndSafetyAreRead) {
   scene.deleteParam("");
 }
 
+// world/publish_clock (off by default) and robot/tf_delay (0.1 s by default, >= 0).
+TEST(WorldConfig, ClockAndRobotDelayAreRead) {
+  ros::NodeHandle scene("/clock_scene");
+  scene.deleteParam("");
+  XmlRpc::XmlRpcValue objects;
+  objects[0] = BoxObject();
+  scene.setParam("objects", objects);
+  scene.setParam("robot/friction", 0.5);
+  const auto defaults = msm_sim::ros_interface::LoadSimulationConfig(scene);
+  EXPECT_FALSE(defaults.world.publish_clock);
+  EXPECT_EQ(defaults.robot.tf_delay, 0.1);
+  scene.setParam("world/publish_clock", true);
+  scene.setParam("robot/tf_delay", 0.0);
+  const auto config = msm_sim::ros_interface::LoadSimulationConfig(scene);
+  EXPECT_TRUE(config.world.publish_clock);
+  EXPECT_EQ(config.robot.tf_delay, 0.0);
+  scene.setParam("robot/tf_delay", -0.1);
+  EXPECT_THROW(msm_sim::ros_interface::LoadSimulationConfig(scene),
+               msm_sim::ros_interface::ConfigError);
+  scene.deleteParam("");
+}
+
 // The first object as read from a scene holding BoxObject() with `key` set to `value` (an empty
 // key: BoxObject() as it is).
 msm_sim::ros_interface::ObjectConfig LoadBoxObject(const std::string& key = "",
@@ -172,6 +194,7 @@ TEST(BadConfig, NamesTheParameter) {
   ExpectConfigError("material", std::string("unobtainium"), "~objects[0]/material");
   ExpectConfigError("world/time_step", -1.0, "~world/time_step");
   ExpectConfigError("world/publish_rate", 0.0, "~world/publish_rate");
+  ExpectConfigError("world/publish_clock", std::string("yes"), "~world/publish_clock");
   ExpectConfigError("world/time_step_safety", 1.5, "~world/time_step_safety");
   ExpectConfigError("world/time_step_safety", 0.0, "~world/time_step_safety");
   ExpectConfigError("world/max_substep_refinement", 3, "~world/max_substep_refinement");
