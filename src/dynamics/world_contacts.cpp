@@ -20,39 +20,38 @@ namespace {
 constexpr double kPatchReach = 1.1;
 
 // What a node near a collider costs the contact stage, in units of what a node costs the
-// explicit substep's other stages and spring loops (ForceEvaluator::CutNodeShares): measured on
-// the realtime block resting on the ground (ν = 0.49, 4 mm, one thread), the contact stage's
-// samples per ground contact against the rest per node.
+// explicit substep's other stages and spring loops (ForceEvaluator::CutNodeShares), so that
+// shares cut at the contacts carry equal work; how it was chosen: docs/design/threads-default.md.
 constexpr double kContactWork = 2.0;
 
 // Penetration recovery leaves this fraction of a node's collision radius overlapping: a node
 // resting on a surface sinks by a few micrometres each substep before its approach is stopped,
 // and pushing it all the way out lifted it clear of the surface for the next substep, without
-// friction (a sliding box went 3 % further at 12 nodes, 186 % with 3.85 ms implicit steps).
+// friction, so sliding bodies went too far (docs/physics.md §7.2,
+// docs/design/penetration-recovery.md).
 constexpr double kRecoverySlop = 0.01;
 
 // A node overlapping a collider by more than this fraction of its collision radius is being
 // recovered, not resting (a resting node sinks micrometres per substep): its contact is
 // frictionless. An overlap has no sliding history for Coulomb friction to act on, and with it
-// the nodes stuck wherever the normal push had moved them: a sphere teleported 4 mm into a
-// block recovered 0.83 (nu 0.25) and 0.69 (nu 0.45) of the slowly pressed force, frictionless
-// 0.95 and 0.92 (docs/physics.md §7.2). The implicit kick's held contacts keep their
-// friction: frictionless, a box teleported into the block burst with kinetic energy there
-// (before the end-position kick) and read no closer to the pressed force (after it).
+// the nodes stuck wherever the normal push had moved them, short of the slowly pressed state
+// (docs/physics.md §7.2, docs/design/penetration-recovery.md). The implicit kick's held contacts
+// keep their friction: frictionless, a box teleported into the block burst with kinetic energy
+// there (before the end-position kick) and read no closer to the pressed force (after it).
 constexpr double kFrictionlessOverlap = 0.1;
 
 // The implicit kick also holds, speculatively, the nodes whose collision sphere is within this
-// many radii of touching a collider: in one long substep a node can cover more than its gap
-// (a block pressed 2 mm and released by a 5 um retraction of its indenter sprang 2.3 m/s in
-// one 1 ms substep, through the indenter's face), and a contact detected only once the sphere
-// overlaps comes a substep late. Such a hold lets the node close its gap and no more; a node
-// that would not reach the surface has its hold released (it pulls).
+// many radii of touching a collider: in one long substep a node can cover more than its gap (a
+// pressed block whose indenter backs off a hair springs back through the indenter's face), and a
+// contact detected only once the sphere overlaps comes a substep late (docs/physics.md §7.1
+// "Speculative contacts"). Such a hold lets the node close its gap and no more; a node that
+// would not reach the surface has its hold released (it pulls).
 constexpr double kSpeculativeReach = 1.0;
 
 // ... but only a node that would pass the surface by more than this fraction of its radius
-// before the next detection: a resting node sinks g h^2 per substep (10 um at 1 ms, under 1 % of
-// a radius), which the contact stage stops as before; holding those too made the realtime
-// block's every step solve twice (2.5-3.4 times slower).
+// before the next detection: a resting node sinks g h^2 per substep, far less than this, which
+// the contact stage stops as before; holding those too made the realtime block's every step
+// solve twice (docs/design/integrator.md).
 constexpr double kSpeculativeSlop = 0.05;
 
 // Coulomb friction's velocity change for a node sliding at `sliding` (tangential, relative to the
@@ -80,8 +79,8 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
   // records into the body's records, the others into their own, added after in share order,
   // so the pending rebounds and contact points keep the order one share gives. (Cutting the
   // border nodes into ranges of equal numbers of nodes near a collider instead, to share a
-  // block's ground contacts, all in the first share, measured no faster on two threads: the
-  // nodes' cache lines then went to the other core and back.)
+  // block's ground contacts, all in the first share, did not pay: the nodes' cache lines then
+  // went to the other core and back; docs/design/threads-default.md.)
   body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
     CollideShare(&stage, body, share, begin, end, &body->pending);
   });
@@ -90,8 +89,8 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
 
 void World::CutNodeSharesAtContacts(Body* body, bool cut) const {
   // The nodes the last contact stage found near a collider: a resting block's ground contacts
-  // all fall in its first node share, whose thread then ran a quarter longer than the other's
-  // (ν = 0.49, 8,125 nodes, two threads).
+  // all fall in its first node share, whose thread then runs longer than the other's
+  // (docs/design/threads-default.md).
   std::vector<NodeIndex> busy;
   for (std::size_t k = 0; cut && k < body->near_collider.size(); ++k) {
     if (body->near_collider[k]) busy.push_back(body->border.nodes[k]);
@@ -142,9 +141,9 @@ void World::EndContactStage(const ContactStage& stage, Body* body, int* microcol
   for (const int count : stage.counts) *microcollisions += count;
 }
 
-// Flattened: the per-contact helpers it calls, inlined, took the realtime block's one-thread
-// step 2.7 % faster (with the library's -fno-semantic-interposition; GCC did not inline them on
-// its own).
+// Flattened: the per-contact helpers it calls are inlined into the per-node loop, which GCC did
+// not do on its own (with the library's -fno-semantic-interposition); the gain:
+// docs/design/threads-default.md.
 __attribute__((flatten)) void World::CollideBorderNodes(const std::vector<ColliderFrame>& frames,
                                                         const std::vector<double>& frictions,
                                                         Body* body, std::size_t k_begin,

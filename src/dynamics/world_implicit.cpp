@@ -20,11 +20,9 @@ namespace {
 constexpr int kImplicitContactPasses = 4;
 
 // A sliding contact starts a kick with the last kick's Coulomb impulse and is solved again when
-// its normal impulse moves that limit by more than this fraction. Measured on the 225-node
-// sliding box (1.96 ms steps): stopping distance -1.6 % of v0^2 / (2 mu g) at 0.1, -0.1 % at
-// 0.02, +0.2 % at 0 (re-solving every change); the realtime block at nu 0.49 costs 1.13 times
-// the 0.1 one's, 0.51 times the 0's. Without the re-solve (the start impulse kept) a node that
-// now carries far less than it did stopped that box 29 % short.
+// its normal impulse moves that limit by more than this fraction: a slide keeps a friction
+// consistent with its current normal load (docs/physics.md §7.1) without a solve for every small
+// change. The trade-off between stopping distance and solves: docs/design/integrator.md.
 constexpr double kSlidingImpulseTolerance = 0.02;
 
 // 1 on the DOFs of free nodes, 0 on kinematic ones.
@@ -77,8 +75,8 @@ int World::ImplicitKick(Body* body, double h, double t0) {
   ComputeForces(body);  // springs, dampers and pushes at (x_mid, v)
   body->forces += options_.gravity * m.transpose();
   // Without the compressed springs' negative geometric stiffness, M + c K stays positive definite
-  // however hard a contact squeezes (measured: at nu 0.49 under the realtime sphere, CG met
-  // negative curvature and the step diverged); the right-hand side keeps the exact forces.
+  // however hard a contact squeezes, as conjugate gradient requires (with the exact K it can meet
+  // negative curvature, docs/physics.md §7.1); the right-hand side keeps the exact forces.
   body->evaluator.Linearize(body->state.positions, GeometricStiffness::kDropCompression);
   const double c = 0.5 * h * h + h * body->options.damping_beta;
   // Colliders are at their mid-substep poses (Substep placed them), as in the contact stage.
@@ -173,8 +171,8 @@ bool World::UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3X
                                 std::vector<ContactNormal>* held) {
   // cos 45 degrees: a slide that turns further sticks for a pass, whose hold gives its friction
   // the new direction. Following the slip within the passes instead let the few nodes under an
-  // indenter flip direction from pass to pass (the force then moved by 5 % with the number of
-  // passes); from the stick impulse the passes settle.
+  // indenter flip direction from pass to pass, so the force depended on the number of passes
+  // (docs/design/integrator.md); from the stick impulse the passes settle.
   const double kTurnedCosine = std::sqrt(0.5);
   bool changed = false;
   for (ContactNormal& contact : *held) {

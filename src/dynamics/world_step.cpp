@@ -43,7 +43,8 @@ void Drift(long count, double tau, const double* v, double* x) {
 }
 
 // The same, first copying x and v into saved_x and saved_v: the step's first drift saves the
-// state for a rejected step as it reads it (a separate copy was 7 % of a one-substep 12k step).
+// state for a rejected step as it reads it, saving a pass over the nodes
+// (docs/design/threads-default.md).
 MSM_SIM_SIMD_CLONES
 void SaveAndDrift(long count, double tau, const double* v, double* x, double* saved_v,
                   double* saved_x) {
@@ -169,7 +170,7 @@ StepReport World::Step(double dt) {
     // An absurd push is what usually makes a step fail; keeping it would fail every step.
     const bool dropped = RollBack(start);
     // Without a push to drop, the saved state itself diverges and every later step would fail
-    // the same way (README "Bad input", the soak): first the bodies stop where they are (a node
+    // the same way (docs/robustness.md, "Long runs"): first the bodies stop where they are (a node
     // pushed to near max_speed whose springs then fling it past it); if they still diverge from
     // rest, their shape does (a lattice crushed beyond what its springs resolve), and they go
     // back to their rest shape.
@@ -206,8 +207,7 @@ World::StepStart World::SaveForRollback() {
     // with finer substeps copies them again from the restored start, the same values.)
     // Each node share copies its own nodes on its own thread, as the stages that follow use
     // them (docs/physics.md §9): copied on the caller's thread, the other share's nodes left its
-    // cache shared, and its first drift waited for them (a two-thread 12k-node step took 11 %
-    // longer).
+    // cache shared, and its first drift waited for them (docs/design/threads-default.md).
     if (!explicit_drift) {
       body.evaluator.ForEachNodeShare([&body](int, int begin, int end) {
         body.saved_positions.middleCols(begin, end - begin) =
@@ -246,7 +246,8 @@ std::string World::RunSubsteps(int count, double h,
     if (body.model->num_nodes() > 0) body.float_origin = body.state.positions.col(0);
     // Cut at the contacts only where the one-pass substep's last share makes up for the cut
     // (ForceEvaluator::NodeStages::rounds_ahead): not in a Step's first substep's stages nor in
-    // its last's contacts, so it takes several (a one-substep 12k-node Step ran 10 % slower).
+    // its last's contacts, so it takes several (a one-substep Step ran slower cut;
+    // docs/design/threads-default.md).
     const bool cut =
         options_.cut_shares_at_contacts && SubstepsInOnePass() && count >= kSubstepsToCutAtContacts;
     CutNodeSharesAtContacts(&body, cut);
@@ -577,7 +578,8 @@ void World::DriftHalfNotingFastest(Body* body, double h, double t0) const {
   // The drift also flags what the sanity check after the substep must look at: a velocity
   // component above max_speed / sqrt(3) (every node faster than max_speed has one) and any
   // non-finite value. One flat loop of reductions vectorises (tracking the fastest node in it
-  // cost 4 % of a 4,000-node step); the rare flagged substep finds the node in a second pass.
+  // would not; docs/design/speed-against-bullet.md); the rare flagged substep finds the node in a
+  // second pass.
   // Each node share on its own thread, as in DriftForceAndKick.
   std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
   body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {

@@ -42,15 +42,14 @@ struct DofProjection;  // mechanics/masked_pcg.h (private)
 /// With WorldOptions::integrator = kImplicit, steps 3-4 become one linearly implicit kick
 /// (docs/physics.md §7.1): F as in step 3 plus gravity at (x_mid, v), K the stiffness at x_mid
 /// (without compressed springs' negative geometric part), and v += dv with (M + (h^2/2 + h beta) K)
-/// dv = h F solved by Jacobi-preconditioned conjugate gradient (kinematic nodes' dv fixed to their
-/// frames' velocities). This takes the elastic force at x_mid + h/2 dv and the dampers at v + dv:
-/// for linear springs without dampers every mode (a = h omega) has an update of determinant 1 and
-/// trace 2 / (1 + a^2/2), stable at any h; the dampers only dissipate. Steps 1-2 and 5-7 are
-/// unchanged. Limits: carrier springs with eMSM dispersion (non-symmetric K) are refused; the
-/// contacts act after the solve, which lets a pressed node's neighbours relax each substep, so
-/// contact forces are too low at large h (43-57 % under a sphere at 1 ms, measured); and the true
-/// energy of a mode with large a oscillates (by up to 1 + a^2/4 within a period) around the
-/// conserved modified energy.
+/// dv = h F - (h^2/2) K v solved by Jacobi-preconditioned conjugate gradient (kinematic nodes' dv
+/// fixed to their frames' velocities). This takes the elastic force at the substep's end position
+/// and the dampers at v + dv, to first order: for a potential convex along the step the kick never
+/// adds energy, and every mode (a = h omega) is damped, stable at any h. Each free border node's
+/// deepest collider contact is held in the solve, with its Coulomb friction (docs/physics.md
+/// §7.1 "Contacts in the solve"). Steps 1-2 and 5-7 are unchanged. Limits: carrier springs with
+/// eMSM dispersion (non-symmetric K) are refused; vibrations are damped numerically (a damping
+/// ratio of about a/4 for a << 1).
 ///
 /// Step() subdivides the caller's step into stable substeps (implicit: substeps of at most
 /// implicit_max_substep), and either advances everything or,
@@ -172,8 +171,7 @@ class World {
     double area_time = 0.0;  // m^2 s, touching nodes' surface shares times their substeps
     /// Adds one impulse on the collider at `point`, its moment about `origin`. Inline: the
     /// contact stage calls it once per microcollision, on the thread whose share holds the
-    /// ground contacts; out of line in world.cpp it was 4 % of that thread's samples, and
-    /// inline the 12k-node step ran 1-2 % faster (README "Speed against Bullet").
+    /// ground contacts (docs/design/speed-against-bullet.md).
     void Add(const Eigen::Vector3d& point, const Eigen::Vector3d& origin,
              const Eigen::Vector3d& on_collider) {
       // Tested on the square: the branch then need not wait for the square root.

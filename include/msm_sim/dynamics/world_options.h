@@ -15,8 +15,8 @@ struct BodyOptions {
   DispersionPasses dispersion = DispersionPasses::kTwoPass;
   /// Border nodes collide with border nodes of the same body that were at least 2.5 longest
   /// springs apart at rest (a fold), never with the ones near them. Off by default: objects a
-  /// robot handles rarely fold onto themselves, and a very soft ball squashed flat (E = 20 kPa,
-  /// 40 % strain) gained energy through its self-contacts (measured; see README).
+  /// robot handles rarely fold onto themselves, and a very soft ball squashed flat gained energy
+  /// through its self-contacts (docs/dynamics.md, known limits).
   bool self_collision = false;
   /// Orientation barrier (docs/physics.md §4, OrientationBarrier): a cell corner of a cubic
   /// lattice squeezed below this fraction of its rest volume, or turned inside out, is pushed
@@ -62,7 +62,7 @@ struct WorldOptions {
   /// Keep every microcollision with a collider of the last Step (World::contact_points).
   bool record_contact_points = false;
   /// Penetration recovery (docs/physics.md §7.2): a node whose collision sphere overlaps a
-  /// collider or another node's sphere by a depth d (beyond 1 % of the radii, left as a slop)
+  /// collider or another node's sphere by a depth d (beyond a slop of 0.01 of the radii)
   /// is moved out at a pseudo-velocity
   /// min(penetration_max_speed, d / penetration_recovery_time) along the contact normal, a
   /// position-only correction of the second half-drift that never becomes kinetic energy. Any
@@ -73,9 +73,9 @@ struct WorldOptions {
   /// The threads (>= 1) each body's spring loops and explicit per-node stages use: the
   /// single-precision loops of bodies of 1,000 nodes or more in exactly this many node shares,
   /// the double loops of bodies of 50,000 springs or more on up to this many (ForceEvaluator).
-  /// One by default: two ran a 4,000-node step 1.37x faster on an idle 2-core machine, but at
-  /// 0.87-0.95x of one thread's speed while another process kept a core busy. Results are
-  /// deterministic for a given thread count (and contacts, see cut_shares_at_contacts).
+  /// One by default: two threads gain only on an idle machine, and lose to one while another
+  /// process keeps a core busy (docs/design/threads-default.md). Results are deterministic for a
+  /// given thread count (and contacts, see cut_shares_at_contacts).
   int threads = 1;
   /// With threads > 1, a Step of a single explicit body (no kinematic groups, no self-collision)
   /// in World::kSubstepsToCutAtContacts substeps or more cuts the body's node shares at equal
@@ -86,10 +86,11 @@ struct WorldOptions {
   /// false: equal shares always.
   bool cut_shares_at_contacts = true;
   /// The arithmetic of each body's spring loops in the dynamics (ForceEvaluator::set_precision).
-  /// kSingle (the default) runs cubic lattices' springs in single precision, which made the
-  /// realtime block's steps 1.5-1.8x faster; a spring's strain is then resolved to about
+  /// kSingle (the default) runs cubic lattices' springs in single precision, for speed
+  /// (docs/design/single-precision-springs.md); a spring's strain is then resolved to about
   /// 1e-7 times the body's extent over the spring's length. Energies, stable steps, the
-  /// implicit integrator's stiffness and static solves stay double (docs/physics.md §9).
+  /// linearisation and static solves stay double; the implicit integrator's stiffness products
+  /// run in float too (docs/physics.md §9).
   SpringPrecision spring_precision = SpringPrecision::kSingle;
 };
 
