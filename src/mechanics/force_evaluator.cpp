@@ -119,8 +119,7 @@ const Eigen::VectorXd& ForceEvaluator::total_tensions() const {
 
 // The hot loops below work on raw, non-aliasing pointers: through Eigen column blocks of a
 // matrix passed by pointer the compiler must assume every force store may change the positions
-// or the model arrays, and reloads them (callgrind counted 55 instructions per spring in the
-// second eMSM pass written that way; the eMSM evaluation got 7 % faster without).
+// or the model arrays, and reloads them (docs/design/speed-against-bullet.md).
 namespace {
 
 struct SpringArrays {

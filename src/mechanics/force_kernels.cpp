@@ -90,8 +90,8 @@ inline __attribute__((always_inline)) void RunTensions(const ScheduledSprings& s
 // RunTensions (without dampers) and ApplyToEnds in one loop, for runs whose offset is at least
 // kFusedMinOffset: iteration i then writes node a0 + offset + i, which iteration i + offset
 // reads again, so vectors of up to that many lanes never hold both (safelen), and the per-spring
-// force vectors need not go through memory. The eMSM second pass gained 4 % on the 12k block;
-// the damped plain pass, fused the same way, was not vectorised and ran 2x slower.
+// force vectors need not go through memory. Used for the eMSM second pass only: the damped
+// plain pass, fused the same way, was not vectorised (docs/design/speed-against-bullet.md).
 constexpr int kFusedMinOffset = 4;
 
 template <typename Tension>

@@ -30,13 +30,13 @@ struct SinglePrecisionSprings {
   /// Longest gap (missing springs in a row of one offset) that phantoms bridge.
   static constexpr int kMaxGap = 8;
   /// Longest run. It bounded the threads' imbalance while shares were cut between runs; node
-  /// shares (SingleShare) now cut runs anywhere, and longer runs were not measured.
+  /// shares (SingleShare) now cut runs anywhere, and longer runs were not tried.
   static constexpr int kMaxRunLength = 512;
   /// Every run starts at a node and a slot that are multiples of this (leading phantoms), so that
   /// a run's loads of 8 floats at its a ends and slots start where a 32-byte block starts, and
   /// never straddle two cache lines in arrays that start one (CacheLineFloats, and node blocks
-  /// a multiple of 16 floats apart): the 12k-node step 4-5 % faster on one thread
-  /// (docs/physics.md §9). The b ends, at any offset, stay unaligned.
+  /// a multiple of 16 floats apart; docs/physics.md §9, docs/design/float-blocks.md). The b ends,
+  /// at any offset, stay unaligned.
   static constexpr int kAlignment = 8;
 
   std::vector<SingleRun> runs;
@@ -77,12 +77,11 @@ struct SinglePrecisionSprings {
   static constexpr double kMinBlockOccupancy = 0.75;
   /// Models of more nodes than this have no blocks either. Where the node arrays far outgrow a
   /// core's L2, the blocks ran slower than the runs and their times spread widely from run to
-  /// run (one thread, the realtime block at nu = 0.49: 32,000 nodes 1.13x the runs' speed,
-  /// 46,575 0.93x, 62,500 0.53-0.80x; the 40^3-node cube 0.49-0.66x; docs/physics.md §9).
+  /// run (docs/design/float-blocks.md).
   static constexpr int kMaxBlockNodes = 40000;
   /// Offsets of one group differ by a multiple of kAlignment or by at least this: a load that
   /// partly overlaps a b-end store of the same sweep then comes two blocks later at the soonest
-  /// (docs/physics.md §9; 32 made more groups and measured slower).
+  /// (docs/physics.md §9; why not 32: docs/design/float-blocks.md).
   static constexpr int kGroupSeparation = 16;
   int num_nodes = 0;  // the model's
 

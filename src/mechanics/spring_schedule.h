@@ -24,8 +24,8 @@ struct SpringRun {
 struct SpringSchedule {
   /// Longest run; bounds the kernels' per-run scratch.
   static constexpr int kMaxRunLength = 64;
-  /// Mean run length from which the run kernels beat the per-spring loops (measured on a cubic
-  /// block: runs of ~30 give 2.7x; runs of one would pay a loop set-up per spring).
+  /// Mean run length from which the run kernels beat the per-spring loops: runs of one would pay
+  /// a loop set-up per spring (docs/design/speed-against-bullet.md).
   static constexpr double kMinMeanRunLength = 4.0;
 
   std::vector<SpringRun> runs;

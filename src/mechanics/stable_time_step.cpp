@@ -126,8 +126,8 @@ double LargestRitzValue(const std::vector<Eigen::Matrix3Xd>& basis,
 
 // For symmetric K. Rayleigh-Ritz on a Krylov basis (Lanczos vectors, reorthogonalised twice):
 // the largest eigenvalue of Q^T A Q converges to lambda_max in a few dozen products even where
-// the top of the spectrum is clustered (a lattice's is; power iteration read 2.5 % low after
-// 200), and never exceeds it.
+// the top of the spectrum is clustered (a lattice's is, where power iteration falls short;
+// docs/physics.md §7 "Stable time step"), and never exceeds it.
 double LargestEigenvalueByRayleighRitz(const Operator& stiffness, const Eigen::Matrix3Xd& start) {
   const int n = static_cast<int>(start.cols());
   const int steps = std::min(60, 3 * n);
@@ -157,7 +157,7 @@ double LargestEigenvalueByPowerIteration(const Operator& stiffness, Eigen::Matri
     lambda = next;
     if (converged && iteration > 20) break;
   }
-  return lambda * 1.05;  // power iteration approaches from below; measured 2.5 % low
+  return lambda * 1.05;  // power iteration approaches from below (docs/physics.md §7)
 }
 
 // Carrier springs' tangent grows as (L0 / L)^2 under compression: the factor on K's eigenvalues.

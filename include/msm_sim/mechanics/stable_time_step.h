@@ -44,10 +44,10 @@ struct StableTimeStepOptions {
 /// of up to 60 vectors, which converges in a few dozen products even where the top of the spectrum
 /// is clustered and never exceeds the true value. Only for carrier springs with dispersion, where K
 /// is not symmetric, does it fall back to power iteration (300 iterations at most), whose
-/// estimate approaches from below and is therefore raised by 5 % (x1.05), and keep the sufficient
-/// bound with dampers. For carrier springs omega_max is also raised by the stiffening of springs
-/// compressed to min_compression. A model without springs, or whose nodes are all fixed, gives
-/// +infinity. Throws std::invalid_argument for options out of range (safety in (0, 1],
+/// estimate approaches from below and is therefore raised by the factor 1.05, and keep the
+/// sufficient bound with dampers. For carrier springs omega_max is also raised by the stiffening of
+/// springs compressed to min_compression. A model without springs, or whose nodes are all fixed,
+/// gives +infinity. Throws std::invalid_argument for options out of range (safety in (0, 1],
 /// min_compression in (0, 1], damping >= 0, fixed nodes that are not nodes of the model).
 double StableTimeStep(const Model& model, const StableTimeStepOptions& options = {});
 
