@@ -138,8 +138,8 @@ Model BuildBaudetInBox(const BodyRecipe& recipe, double spacing) {
 
 // A lattice rotated against the box cuts its faces through cells: built through the box as a
 // solid, those cells are weighted by the fraction inside (docs/physics.md §5), as a mesh's are.
-// The box lattice keeps whole cells or none, which read E -6.6 % at 37 degrees (-1.9 % through
-// the solid).
+// The box lattice keeps whole cells or none, which reads E too low on a rotated lattice
+// (docs/meshes.md).
 bool AntiAliasesTheBox(const BodyRecipe& recipe) {
   return recipe.antialias && recipe.rotation_angle != 0.0 &&
          recipe.construction == CubicConstruction::kNodeCentred;

@@ -123,9 +123,9 @@ void GiveSliverToNeighbours(const Eigen::Vector3i& c, double chi, const CellRang
 }
 
 // A dropped sliver's volume goes to the kept cells around it (26-neighbourhood, in proportion
-// to their fractions), so the model keeps the body's mass: without this a sphere of radius 1
-// at a = 1/2 loses 0.4 to 3.6 % of it, depending on how the lattice falls. A border cell may end
-// up with chi > 1. Returns the volume fraction each cell absorbs.
+// to their fractions), so the model keeps the body's mass, however the lattice falls
+// (docs/meshes.md). A border cell may end up with chi > 1. Returns the volume fraction each cell
+// absorbs.
 std::vector<double> AbsorbedSlivers(const CellRange& range, const std::vector<double>& fraction,
                                     double min_fraction) {
   std::vector<double> absorbed(fraction.size(), 0.0);

@@ -11,10 +11,8 @@ namespace {
 
 // The fitting below stops when every recipient's total is within this of its target, or after
 // this many sweeps. The neighbourhoods need not allow exact totals, and near the limit the
-// fitting crawls: on the realtime block (20 x 20 x 10 nodes) the largest miss is 3.7 % after 100
-// sweeps and 3.2 % from 300 on, on 100 x 100 x 25 nodes 6.9 % and 1.4 % after 1,000. The stable
-// step does not see the difference (89.8 us on the realtime block after 50 or 1,000 sweeps); the
-// givers' totals, hence the body's summed bulk, are exact after every sweep.
+// fitting crawls while the stable step no longer changes (docs/design/surface-dispersion.md);
+// the givers' totals, hence the body's summed bulk, are exact after every sweep.
 constexpr double kFittingTolerance = 1e-6;
 constexpr int kMaxFittingSweeps = 100;
 

@@ -27,7 +27,7 @@ struct OuterLayerNeighbourhoods {
 /// r = keep and gives up (1 - keep) W_x; a recipient j that receives E_j gets r = 1 + E_j / W_j.
 /// How the given bulk is split is an iterative proportional fitting over the neighbourhoods: each
 /// giver gives exactly its share, and each recipient receives as nearly as the neighbourhoods
-/// allow the same multiple of its own W (within 4 % on the boxes measured). Under a uniform strain
+/// allow the same multiple of its own W (docs/design/surface-dispersion.md). Under a uniform strain
 /// every star reads the same dilatation J / W, so the body's summed bulk energy is unchanged.
 ///
 /// Why: near nu = 1/2 the one-sided stars of the outer layer respond to the shortest waves as

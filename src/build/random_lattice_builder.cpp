@@ -37,9 +37,9 @@ struct StarSpring {
 // The eMSM disperses a node's momentum inflow as a pressure, and its inflow measures a volume
 // change only, if the node's star weighted by v k L0^2 is isotropic: sum v k L0^2 u u^T ∝ I.
 // Random stars are not, and the anisotropy leaks q times into the shear response: harmless for
-// q < 0 (|q| < 1/2), but for nu -> 1/2 q grows without bound (q = 14 at nu = 0.49, where E came
-// out 12 % high with v = 1). So for q > 0 choose the least-norm v = 1 + d that makes the star
-// isotropic while keeping sum v k L0^2 (6 linear conditions). Stars with fewer than 7 springs,
+// q < 0 (|q| < 1/2), but for nu -> 1/2 q grows without bound and E comes out high with v = 1
+// (docs/physics.md §3, refinement 3). So for q > 0 choose the least-norm v = 1 + d that makes the
+// star isotropic while keeping sum v k L0^2 (6 linear conditions). Stars with fewer than 7 springs,
 // or that would need a weight below 0.2, keep v = 1.
 void SetIsotropicDispersionWeights(NodeIndex node, const std::vector<StarSpring>& star,
                                    ModelBuilder* builder) {

@@ -15,8 +15,9 @@
 namespace msm_sim::core {
 namespace {
 
-// Strain of the virtual test: small enough that geometric non-linearity (about -0.7 % of E per
-// 1 % strain) does not enter the correction, which is for the small-strain moduli.
+// Strain of the virtual test: small enough that geometric non-linearity (an E deficit in
+// proportion to the strain, docs/design/node-centred-lattices.md) does not enter the correction,
+// which is for the small-strain moduli.
 constexpr double kCalibrationStrain = 1e-3;
 // Measured nu this close to the target ends the secant iteration.
 constexpr double kPoissonTolerance = 0.002;

@@ -33,7 +33,7 @@ const std::vector<std::string>& LatticeKindNames();
 
 /// The most nodes a recipe may ask for: a target_nodes above it, or a spacing that gives more
 /// lattice sites than this in the region's bounding box, is refused before anything is allocated
-/// (a cubic model of 1.95 million nodes took 2.0 GB peak and 5 s to build; README "Bad input").
+/// (what a model at the limit costs to build: docs/robustness.md).
 inline constexpr int kMaxBodyNodes = 2'000'000;
 
 /// Everything that makes a calibrated model of a body: the material, the region it fills and the

@@ -49,21 +49,20 @@ struct CubicLatticeOptions {
   /// miss (docs/physics.md §2.1 "Free faces in bending"): along each axis at least 4 cells
   /// across, the springs lying in the two outer layers are stiffened and those lying in the
   /// interior layers softened so that every layer keeps its summed stiffness (the block's
-  /// stiffness tensor is unchanged). A cantilever 4 or 8 cells across bends within 2 % of
-  /// CalculiX instead of 6-24 % too much. The price: a skin stiffer in its own plane, which
-  /// changes contacts on coarse lattices, and interior layers softer in theirs, which a block
-  /// compressed across them sees through its lateral expansion (at nu = 0.45, E -1.05 % against
-  /// -0.71 % for a block compressed along its 20 cells, -2.8 % against -1.3 % for a cube 10 cells
-  /// across); hence off by default. Applies to unrotated boxes (rotated lattices do not fill a box
-  /// of cells).
+  /// stiffness tensor is unchanged), and a cantilever 4 or 8 cells across bends as CalculiX's
+  /// continuum does instead of too much. The price: a skin stiffer in its own plane, which changes
+  /// contacts on coarse lattices, and interior layers softer in theirs, which a block compressed
+  /// across them sees through its lateral expansion as a lower E; hence off by default
+  /// (docs/design/free-face-bending.md). Applies to unrotated boxes (rotated lattices do not fill
+  /// a box of cells).
   bool free_face_bending = false;
   /// Node-centred only: the share of its eMSM bulk (the dispersion, q > 0, nu > 1/4) that the
   /// outer node layer keeps, in (0, 1]; the rest goes to the layer beneath, so that a uniform
   /// strain meets the same summed bulk (docs/physics.md §7 "A softer outer layer"). Near nu = 1/2
-  /// the outer layer's one-sided stars set the explicit stable step; 0.5 lengthens it about 1.3x
-  /// at nu = 0.49. The price: the surface is softer in bulk over one cell, which lowers a
-  /// sphere's force on a coarse block (a few cells under the contact) by several percent, and
-  /// much less where the contact is resolved (the README's measurements). 1 (default): off.
+  /// the outer layer's one-sided stars set the explicit stable step, which moving bulk inwards
+  /// lengthens. The price: the surface is softer in bulk over one cell, which lowers a sphere's
+  /// force on a coarse block (a few cells under the contact), and much less where the contact is
+  /// resolved (docs/design/surface-dispersion.md). 1 (default): off.
   double surface_dispersion = 1.0;
   SpringLaw spring_law = SpringLaw::kLinear;
   /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs

@@ -48,7 +48,7 @@ struct RandomLatticeOptions {
   /// Self-calibration (docs/physics.md §2.2): measure a representative block with the same l,
   /// minL, maxL, laws and nu but calibration_seed in the virtual compression test, and correct q
   /// and k so that it reads the target nu and E. Off by default: it costs a few builds and
-  /// static solves of the representative block (README "Measured accuracy").
+  /// static solves of the representative block (docs/design/node-centred-lattices.md).
   bool self_calibrate = false;
   /// Representative block: 3w x w x w characteristic spacings (w = calibration_block_cells).
   int calibration_block_cells = 16;
