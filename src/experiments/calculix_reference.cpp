@@ -250,7 +250,7 @@ int WaitForCcx(pid_t pid, double timeout_seconds, const fs::path& log) {
       throw std::runtime_error("CalculiX did not finish within " + Str(timeout_seconds) +
                                " s (last output: " + LastLine(log) + ")");
     }
-    // Polling only with a timeout; a 10 ms lag is nothing beside a solve.
+    // Polling only with a timeout; the poll's lag is nothing beside a solve.
     if (done == 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 }

@@ -60,7 +60,7 @@ void StepToFirstContact(World* world, int body, int sphere,
 // about D / samples of depth: the mean depth and force of its steps. Depth is measured from
 // `touch_z`, the sphere's height when it touches the first collision sphere under it, not from
 // the end of the step that first records a force: that step ends up to one step's travel later,
-// which read as a force 6 % above Hertz's at 0.5 mm deep and 31 % at 0.1 mm (20 um steps).
+// which reads as a force above Hertz's, the more the shallower (docs/lab.md, "indent").
 std::vector<IndentationSample> Press(World* world, int body, int sphere, double touch_z,
                                      const IndentationExperimentOptions& options) {
   const int steps_per_row =

@@ -23,9 +23,9 @@ core::CalculixCantilever ReferenceBox(const LabArguments& arguments) {
   }
   // Ten elements across resolve the section's bending; along x, elements at most twice as long
   // as the section's thinner element side, at least 40 (40 x 10 x 10 on the 4 : 1 : 1
-  // box) and at most 500 (the element limit). On a 20 : 1 : 1 bar this rule's 100 elements
-  // along x deflect 0.04 % less than 200 do, 40 elements 0.20 % less. Invalid sizes are left to
-  // the core's checks, which say what is wrong.
+  // box) and at most 500 (the element limit); finer meshes along x barely move the deflection
+  // (docs/design/free-face-bending.md). Invalid sizes are left to the core's checks, which say
+  // what is wrong.
   box.elements_y = 10;
   box.elements_z = 10;
   const double thinnest = std::min(size.y(), size.z()) / 10.0;

@@ -1,4 +1,4 @@
-// msm_lab: command-line virtual materials lab (see README "msm_lab").
+// msm_lab: command-line virtual materials lab (see docs/lab.md).
 // Exit codes: 0 success, 1 the experiment failed (or a hardness outside its conversion's range),
 // 2 bad arguments.
 #include <exception>

@@ -21,7 +21,8 @@ struct ContactWrench {
   double normal_force = 0.0;
   /// m^2: the surface shares (BorderNodes::surface_shares) of the free border nodes touching the
   /// collider, averaged over the step's substeps. Touching: the node's collision sphere, enlarged
-  /// by 10 % (the radii of face, edge and corner nodes differ by a few percent), overlaps it.
+  /// by the factor 1.1 (the radii of face, edge and corner nodes differ by a few percent), overlaps
+  /// it.
   double area = 0.0;
   /// Pa: normal_force / area; 0 without area.
   double mean_pressure = 0.0;

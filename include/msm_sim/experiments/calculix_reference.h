@@ -33,9 +33,8 @@ struct CalculixCantilever {
 };
 
 /// Elements above which a deck is refused: CalculiX factors the stiffness matrix directly, and its
-/// time and memory grow faster than the element count (measured on 2 cores, one ccx thread:
-/// 4,000 C3D8I elements 1.2 s, 10,000 3.1 s and 0.35 GB, 40,000 46 s and 1.9 GB), so a mistyped
-/// count would take the machine rather than fail.
+/// time and memory grow faster than the element count (docs/design/free-face-bending.md), so a
+/// mistyped count would take the machine rather than fail.
 constexpr long kMaxCalculixElements = 50000;
 
 struct CalculixProfileSample {

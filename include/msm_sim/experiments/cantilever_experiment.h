@@ -33,7 +33,7 @@ struct CantileverExperimentOptions {
   CantileverEnds ends = CantileverEnds::kNodeLayers;
   /// Solver settings; a force_tolerance <= 0 means 1e-7 of the force per loaded node. Up to 200
   /// Newton iterations: at nu = 0.49 the bar (0.2 x 0.05 x 0.05 m, 4 or 8 cells across)
-  /// took 67-76, and stopped unconverged at the solver's default 30.
+  /// needs more than the solver's default 30 and stopped unconverged there.
   StaticSolverOptions solver{0.0, 200};
 };
 

@@ -15,7 +15,7 @@ namespace msm_sim::core {
 /// The queries use CGAL's AABB tree and Side_of_triangle_mesh (ray parity with exact predicates,
 /// re-shooting when a ray grazes an edge or a vertex), so they are exact for any closed surface,
 /// however the lattice happens to align with its faces. Immutable after construction; the queries
-/// are const and cheap (~0.2 us for a point against a few thousand triangles).
+/// are const and cheap (a tree search, not a pass over the triangles; docs/meshes.md).
 class SolidMesh {
  public:
   /// Orients the triangles consistently and outwards. Throws std::invalid_argument with a

@@ -15,7 +15,7 @@ struct SurfaceSkinOptions {
   /// Edge of the embedding cells (m); <= 0: half the model's characteristic length, which keeps
   /// every corner within about one node spacing of the surface.
   double cell_size = 0.0;
-  /// Each cell corner follows the nodes within this many cell sizes of it, grown (up to 3.4x)
+  /// Each cell corner follows the nodes within this many cell sizes of it, grown (by 1.5^3 at most)
   /// where they do not surround it well enough to fix an affine map.
   double fit_radius = 3.0;
 };
