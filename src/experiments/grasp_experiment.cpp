@@ -17,6 +17,8 @@ namespace {
 constexpr double kStartGap = 1e-3;
 // The squeeze counts as reached when both pads' normal forces are within this fraction of it.
 constexpr double kSqueezeTolerance = 0.05;
+// The fraction of close_speed a pad closes at once it touches the object.
+constexpr double kTouchingSpeed = 0.1;
 // The fraction of the estimated position error the force control corrects in one step.
 constexpr double kCorrectionGain = 0.2;
 
@@ -135,20 +137,30 @@ class Grasp {
   // target force, then correct its position by a fraction of what the force lacks over the
   // contact's stiffness (the secant from first touch to that first crossing, an under-estimate
   // of the tangent for a convex contact). A fixed proportional gain would have to be slow for a
-  // flat face's stiff contact or chatter on it.
+  // flat face's stiff contact or chatter on it. The secant can still be far too soft (a pad that
+  // first meets a few nodes reads their impacts), so each overshoot past the tolerance that does
+  // not at least halve the force error (its sign changing from one step to the next) doubles the
+  // stiffness estimate.
   void ControlSqueeze(double vertical_speed) {
     for (PadControl& pad : pads_) {
       const double force = PadForce(pad.collider, pad.side);
       if (force > 0.0 && !(pad.touch >= 0.0)) pad.touch = pad.travel;
+      const double error = result_.target_force - force;
       if (pad.stiffness == 0.0 && force >= result_.target_force) {
         pad.stiffness =
             force / std::max(pad.travel - pad.touch, options_.close_speed * options_.step);
+      } else if (pad.stiffness > 0.0 && error * pad.error < 0.0 &&
+                 std::abs(error) > kSqueezeTolerance * result_.target_force &&
+                 std::abs(error) > 0.5 * std::abs(pad.error)) {
+        pad.stiffness *= 2.0;
       }
-      double closing = options_.close_speed;
+      pad.error = error;
+      // Touching, a tenth of the speed: a pad striking the object at full speed reads impacts.
+      double closing =
+          pad.touch >= 0.0 ? kTouchingSpeed * options_.close_speed : options_.close_speed;
       if (pad.stiffness > 0.0) {
-        closing = std::clamp(
-            kCorrectionGain * (result_.target_force - force) / (pad.stiffness * options_.step),
-            -options_.close_speed, options_.close_speed);
+        closing = std::clamp(kCorrectionGain * error / (pad.stiffness * options_.step),
+                             -options_.close_speed, options_.close_speed);
       }
       pad.travel += closing * options_.step;
       Eigen::Vector3d velocity(0.0, 0.0, vertical_speed);
@@ -233,14 +245,16 @@ class Grasp {
   int axis_ = 0;  // the pads close along x (0) or y (1)
   int left_ = 0;
   int right_ = 0;
-  // A pad's force control: side -1 is the left pad (facing +x). Travel (m) is how far it has
-  // closed; touch its travel when it first pressed; stiffness (N/m) 0 until the first crossing.
+  // A pad's force control: side -1 is the left pad (facing +axis). Travel (m) is how far it has
+  // closed; touch its travel when it first pressed; stiffness (N/m) 0 until the first crossing;
+  // error (N) the force it lacked at the last step.
   struct PadControl {
     int collider = 0;
     double side = 0.0;
     double travel = 0.0;
     double touch = -1.0;
     double stiffness = 0.0;
+    double error = 0.0;
   };
   PadControl pads_[2];
   bool tracking_ = false;
