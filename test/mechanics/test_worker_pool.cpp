@@ -35,7 +35,9 @@ TEST(WorkerPool, RunsEveryShareOnceAndWaitsForAll) {
     EXPECT_EQ(ids[0], std::this_thread::get_id());  // share 0 runs on the caller
     for (int s = 1; s < shares; ++s) on_workers += ids[s] != ids[0];
   }
-  EXPECT_GT(on_workers, 1000);  // of 3,000 shares beyond the first
+  // The workers take some of the shares beyond the first; on a busy machine fewer, as the
+  // caller claims the shares of a worker not yet awake.
+  EXPECT_GT(on_workers, 0);
 }
 
 // A worker that has not started yet (here: asleep, its wake-up takes tens of microseconds)
