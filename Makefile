@@ -6,6 +6,7 @@
 #   make lab    the same, then the materials lab on a default block
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
 #   make bench  build and run the Google Benchmarks (bench/)
+#   make validate  the accuracy and speed checks, written to docs/validation.md with figures
 #   make soak   10 simulated minutes of random pushes on two objects (not part of `make test`)
 #   make test-sanitize  the core and lab gtests under AddressSanitizer and UBSan (build/ws-sanitize)
 #   make fuzz   libFuzzer on the mesh and model-file readers, FUZZ_SECONDS each (build/fuzz, clang)
@@ -18,7 +19,7 @@ export PATH := /usr/bin:/bin:$(PATH)
 CATKIN_MAKE := catkin_make -C $(WS) -DCMAKE_BUILD_TYPE=Release -DPYTHON_EXECUTABLE=/usr/bin/python3
 JOBS ?= -j2
 
-.PHONY: deps workspace build demo lab test test-sanitize soak fuzz bench format clean
+.PHONY: deps workspace build demo lab test test-sanitize soak fuzz bench validate format clean
 
 deps:
 	@$(ROOT)/scripts/install_dependencies.sh
@@ -56,6 +57,12 @@ demo: build
 lab: build
 	source $(WS)/devel/setup.bash && rosrun msm_sim msm_lab compression --model cubic \
 	  --size 2 1 1 --spacing 0.0625 --youngs 1e5 --poisson 0.25 --density 1100
+
+# The accuracy and speed checks (scripts/validate.py): every figure of docs/validation.md and
+# docs/figures/validation/, stamped with the commit, the date and the machine.
+validate: build
+	/usr/bin/python3 $(ROOT)/scripts/validate.py --lab $(WS)/devel/lib/msm_sim/msm_lab \
+	  --bullet $(WS)/devel/lib/msm_sim/msm_sim_bullet_benchmark --out $(ROOT)/docs/validation.md
 
 # Tests run one at a time: the rostests pace nodes to ROS time, and two of them sharing the two
 # cores let a node fall behind the clock (it then drops simulated time and is not the
