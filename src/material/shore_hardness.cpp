@@ -42,6 +42,28 @@ constexpr double kGentDepthPerPoint = 2.54;
 
 constexpr double kGentMinShoreA = 20.0;
 constexpr double kGentMaxShoreA = 90.0;
+constexpr double kMinShoreA = 10.0;
+
+// The ASTM D2240 type 00 durometer (docs/materials.md): a sphere of radius 1.19 mm (2.38 mm
+// diameter), 2.54 mm of travel from a reading of 100 to 0, and a spring force rising linearly
+// from 0.203 N at 0 to 1.111 N at 100. Lengths in mm and forces in N give E in MPa.
+constexpr double kType00RadiusMm = 1.19;
+constexpr double kType00FullDepthMm = 2.54;
+constexpr double kType00ForceOffsetN = 0.203;
+constexpr double kType00ForcePerPointN = 0.00908;
+constexpr double kIncompressible = 0.75;  // 1 - nu^2 at nu = 0.5
+
+constexpr double kSphereMinShore00 = 10.0;
+constexpr double kSphereMaxShore00 = 70.0;  // = Shore A 20, where Gent's relation takes over
+constexpr double kMaxShore00 = 98.0;        // the comparison table's last row
+
+constexpr const char* kGentUncertainty =
+    "tens of percent (hardness-to-modulus correlations scatter; see docs/materials.md)";
+constexpr const char* kSphereUncertainty =
+    "up to a factor of 2 (soft silicones' datasheet moduli lie within 0.5 to 2 times it; see "
+    "docs/materials.md)";
+constexpr const char* kSphereConversion =
+    "Sneddon (1965) sphere indentation by the ASTM D2240 type 00 durometer";
 
 std::string Number(double value) {
   std::ostringstream text;
@@ -56,21 +78,45 @@ void RequireWithin(double value, const ShoreRange& range, const std::string& sca
                           Number(range.min) + ", " + Number(range.max) + "], " + why);
 }
 
+// Linear interpolation in the comparison table, from the 00 column to the A column or back.
+// Precondition: value within the table's span on its column.
+double InterpolateTable(double value, bool from_shore_00) {
+  const auto column = [from_shore_00](const std::pair<double, double>& row, bool input) {
+    return input == from_shore_00 ? row.first : row.second;
+  };
+  for (std::size_t i = 1; i < kShore00ToA.size(); ++i) {
+    const double x1 = column(kShore00ToA[i], true);
+    if (value > x1) continue;
+    const double x0 = column(kShore00ToA[i - 1], true);
+    const double y0 = column(kShore00ToA[i - 1], false);
+    const double y1 = column(kShore00ToA[i], false);
+    return y0 + (y1 - y0) * (value - x0) / (x1 - x0);
+  }
+  return column(kShore00ToA.back(), false);
+}
+
+// Sneddon's sphere: the contact radius a in (0, radius) at which the depth
+// (a/2) ln((R+a)/(R-a)) equals `depth` (increasing in a, so bisection).
+double SneddonContactRadius(double depth, double radius) {
+  double low = 0.0;
+  double high = radius;
+  for (int i = 0; i < 200 && high - low > 1e-15 * radius; ++i) {
+    const double a = 0.5 * (low + high);
+    const double depth_at_a = 0.5 * a * std::log((radius + a) / (radius - a));
+    (depth_at_a < depth ? low : high) = a;
+  }
+  return 0.5 * (low + high);
+}
+
 }  // namespace
+
+ShoreRange ShoreARange() { return {kMinShoreA, kGentMaxShoreA}; }
 
 ShoreRange GentShoreARange() { return {kGentMinShoreA, kGentMaxShoreA}; }
 
-ShoreRange Shore00Range() {
-  // The table's 00 reading at Shore A 20 (a table row) up to its last row.
-  double min = kShore00ToA.back().first;
-  for (const auto& [shore_00, shore_a] : kShore00ToA) {
-    if (shore_a >= kGentMinShoreA) {
-      min = shore_00;
-      break;
-    }
-  }
-  return {min, kShore00ToA.back().first};
-}
+ShoreRange Shore00Range() { return {kSphereMinShore00, kMaxShore00}; }
+
+ShoreRange SphereShore00Range() { return {kSphereMinShore00, kSphereMaxShore00}; }
 
 double GentYoungsFromShoreA(double shore_a) {
   RequireWithin(shore_a, GentShoreARange(), "A",
@@ -81,38 +127,63 @@ double GentYoungsFromShoreA(double shore_a) {
   return force / depth * 1e6;  // MPa to Pa
 }
 
+double SphereYoungsFromShore00(double shore_00) {
+  RequireWithin(shore_00, SphereShore00Range(), "00", "where the type 00 sphere relation is used");
+  const double radius = kType00RadiusMm;
+  const double depth = kType00FullDepthMm * (1.0 - shore_00 / 100.0);
+  const double force = kType00ForceOffsetN + kType00ForcePerPointN * shore_00;
+  const double a = SneddonContactRadius(depth, radius);
+  const double log_term = std::log((radius + a) / (radius - a));
+  const double shape = 0.5 * (a * a + radius * radius) * log_term - a * radius;  // mm^2
+  return kIncompressible * force / shape * 1e6;                                  // MPa to Pa
+}
+
 double ShoreAFromShore00(double shore_00) {
   RequireWithin(shore_00, {kShore00ToA.front().first, kShore00ToA.back().first}, "00",
                 "the Shore 00 / Shore A comparison table's span");
-  for (std::size_t i = 1; i < kShore00ToA.size(); ++i) {
-    const auto& [x1, y1] = kShore00ToA[i];
-    if (shore_00 > x1) continue;
-    const auto& [x0, y0] = kShore00ToA[i - 1];
-    return y0 + (y1 - y0) * (shore_00 - x0) / (x1 - x0);
-  }
-  return kShore00ToA.back().second;
+  return InterpolateTable(shore_00, true);
 }
 
 ShoreConversion YoungsFromShoreA(double shore_a) {
+  RequireWithin(shore_a, ShoreARange(), "A",
+                "the readings converted here (Gent's relation from 20, the Shore 00 sphere "
+                "relation below; softer materials: read the 00 scale, or give youngs)");
   ShoreConversion result;
-  result.youngs = GentYoungsFromShoreA(shore_a);
   result.shore_a = shore_a;
-  result.conversion = "Gent (1958) relation for Shore A";
-  result.valid_range = GentShoreARange();
+  result.valid_range = ShoreARange();
+  if (shore_a >= kGentMinShoreA) {
+    result.youngs = GentYoungsFromShoreA(shore_a);
+    result.conversion = "Gent (1958) relation for Shore A";
+    result.uncertainty = kGentUncertainty;
+    return result;
+  }
+  const double shore_00 = InterpolateTable(shore_a, false);
+  result.youngs = SphereYoungsFromShore00(shore_00);
+  result.conversion = "Shore A to Shore 00 " + Number(shore_00) +
+                      " by the durometer comparison table, then " + kSphereConversion;
+  result.uncertainty = kSphereUncertainty;
   return result;
 }
 
 ShoreConversion YoungsFromShore00(double shore_00) {
   RequireWithin(shore_00, Shore00Range(), "00",
-                "the readings the Shore 00 / Shore A comparison table maps to Shore A 20 to 80, "
-                "where Gent's relation is used (softer materials: measure E, e.g. a tensile test)");
+                "the readings converted here (the type 00 sphere relation to 70, the Shore 00 / "
+                "Shore A table and Gent's relation above; otherwise give youngs)");
   ShoreConversion result;
+  result.shore_00 = shore_00;
+  result.valid_range = Shore00Range();
+  if (shore_00 < kSphereMaxShore00) {
+    result.youngs = SphereYoungsFromShore00(shore_00);
+    if (shore_00 >= kShore00ToA.front().first) result.shore_a = ShoreAFromShore00(shore_00);
+    result.conversion = kSphereConversion;
+    result.uncertainty = kSphereUncertainty;
+    return result;
+  }
   result.shore_a = ShoreAFromShore00(shore_00);
   result.youngs = GentYoungsFromShoreA(result.shore_a);
-  result.shore_00 = shore_00;
   result.conversion =
       "Shore 00 to Shore A by the durometer comparison table, then Gent (1958) relation";
-  result.valid_range = Shore00Range();
+  result.uncertainty = kGentUncertainty;
   return result;
 }
 
