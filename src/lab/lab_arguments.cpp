@@ -243,11 +243,11 @@ void AddMaterialCommand(CLI::App* app, CommandLine* line) {
   HardnessArguments& hardness = line->arguments.hardness;
   CLI::App* material = line->material = app->add_subcommand(
       "material",
-      "Young's modulus from a Shore hardness (Gent's relation; Shore 00 through the 00/A "
-      "comparison table), with its validity range (docs/materials.md)");
-  auto* shore_a = material->add_option("--shore-a", hardness.shore_a, "Shore A hardness, 20 to 90");
+      "Young's modulus from a Shore hardness (Gent's relation; the type 00 sphere relation "
+      "for soft readings), with its validity range (docs/materials.md)");
+  auto* shore_a = material->add_option("--shore-a", hardness.shore_a, "Shore A hardness, 10 to 90");
   auto* shore_00 =
-      material->add_option("--shore-00", hardness.shore_00, "Shore 00 hardness, 70 to 98");
+      material->add_option("--shore-00", hardness.shore_00, "Shore 00 hardness, 10 to 98");
   shore_a->excludes(shore_00);
   shore_00->excludes(shore_a);
   material->add_option("--poisson", hardness.poisson,

@@ -11,10 +11,6 @@
 namespace msm_sim::lab {
 namespace {
 
-// docs/materials.md "Uncertainty": no number from these correlations is better than this.
-constexpr const char* kUncertainty =
-    "tens of percent (hardness-to-modulus correlations scatter; see docs/materials.md)";
-
 // The conversion the arguments ask for; throws std::out_of_range outside its range.
 core::ShoreConversion Convert(const HardnessArguments& hardness) {
   return hardness.from_shore_00 ? core::YoungsFromShore00(hardness.shore_00)
@@ -36,7 +32,7 @@ int RunMaterial(const LabArguments& arguments, std::ostream& out) {
   if (arguments.json) {
     Json json{
         {"command", "material"},
-        {"shore_a", result.shore_a},
+        {"shore_a", result.shore_a >= 0.0 ? Json(result.shore_a) : Json(nullptr)},
         {"shore_00", hardness.from_shore_00 ? Json(result.shore_00) : Json(nullptr)},
         {"youngs", result.youngs},
         {"poisson", hardness.has_poisson ? Json(hardness.poisson) : Json(nullptr)},
@@ -44,22 +40,28 @@ int RunMaterial(const LabArguments& arguments, std::ostream& out) {
         {"conversion", result.conversion},
         {"valid_range",
          {{"scale", scale}, {"min", result.valid_range.min}, {"max", result.valid_range.max}}},
-        {"uncertainty", kUncertainty}};
+        {"uncertainty", result.uncertainty}};
     out << json.dump() << "\n";
     return 0;
   }
   out << std::setprecision(4);
-  if (hardness.from_shore_00) {
+  if (hardness.from_shore_00 && result.shore_a >= 0.0) {
     out << "Shore 00 " << result.shore_00 << " = Shore A " << result.shore_a << "\n";
   }
-  out << "Shore A " << result.shore_a << ": E = " << result.youngs << " Pa\n";
+  // A 00 reading below the comparison table (00 45) has no Shore A equivalent.
+  if (result.shore_a >= 0.0) {
+    out << "Shore A " << result.shore_a;
+  } else {
+    out << "Shore 00 " << result.shore_00;
+  }
+  out << ": E = " << result.youngs << " Pa\n";
   if (hardness.has_poisson) {
     out << "nu = " << hardness.poisson << ": G = " << shear_modulus << " Pa\n";
   }
   out << "conversion: " << result.conversion << "\n"
       << "valid range: Shore " << scale << " " << result.valid_range.min << " to "
       << result.valid_range.max << "\n"
-      << "uncertainty: " << kUncertainty << "\n";
+      << "uncertainty: " << result.uncertainty << "\n";
   return 0;
 }
 

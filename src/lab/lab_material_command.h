@@ -9,7 +9,8 @@
 namespace msm_sim::lab {
 
 /// Writes E with the conversion used, its validity range and its expected uncertainty: a table,
-/// or one JSON object with exactly command, shore_a, shore_00 (null for a Shore A input),
+/// or one JSON object with exactly command, shore_a (the Shore A reading or the 00 reading's
+/// equivalent by the comparison table; null below it), shore_00 (null for a Shore A input),
 /// youngs (Pa), poisson and shear_modulus (null without --poisson), conversion, valid_range
 /// ({scale, min, max}) and uncertainty. Returns 0. Throws std::out_of_range (exit 1) for a
 /// reading outside the conversion's range, std::invalid_argument for a Poisson's ratio outside
