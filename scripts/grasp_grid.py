@@ -4,7 +4,8 @@
 Shapes: sphere 5 cm, cylinder 4 x 6 cm lying across the pads, ellipsoid 6 x 4 x 3 cm and the
 bean mesh (meshes/soft_bean.obj scaled to 5 cm); nu 0.3 and 0.49; spacings 2.5, 3 and 5 mm;
 mu 0.5 and 0.8; both integrators; Q 1.5 (must hold) and 0.6 (must drop). E 259 kPa, rho 1070.
-Usage: grasp_grid.py MSM_LAB [--quick] (--quick: spacings 3 and 5 mm, explicit only).
+Usage: grasp_grid.py MSM_LAB [--quick] [--spacings A ...] [--integrators NAME ...]
+(--quick: spacings 5 and 3 mm, explicit only; --spacings, --integrators: these only).
 """
 import itertools
 import json
@@ -22,11 +23,25 @@ SHAPES = {
 }
 
 
+def option(name):
+    """The values after `name` on the command line, up to the next option; [] if absent."""
+    if name not in sys.argv:
+        return []
+    values = []
+    for value in sys.argv[sys.argv.index(name) + 1:]:
+        if value.startswith("--"):
+            break
+        values.append(value)
+    return values
+
+
 def main():
     lab = sys.argv[1]
     quick = "--quick" in sys.argv
-    spacings = ["0.005", "0.003"] if quick else ["0.005", "0.003", "0.0025"]
-    integrators = ["explicit"] if quick else ["explicit", "implicit"]
+    spacings = option("--spacings") or (["0.005", "0.003"] if quick else
+                                         ["0.005", "0.003", "0.0025"])
+    integrators = option("--integrators") or (["explicit"] if quick else
+                                              ["explicit", "implicit"])
     print("| shape | nu | spacing | mu | integrator | nodes | Q 1.5: rise mm, slip mm | "
           "Q 0.6: rise mm | Q 30: max speed m/s | verdict |")
     print("|---|---|---|---|---|---|---|---|---|---|")

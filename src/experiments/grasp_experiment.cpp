@@ -18,7 +18,7 @@ constexpr double kStartGap = 1e-3;
 // The squeeze counts as reached when both pads' normal forces are within this fraction of it.
 constexpr double kSqueezeTolerance = 0.05;
 // The fraction of close_speed a pad closes at once it touches the object.
-constexpr double kTouchingSpeed = 0.1;
+constexpr double kTouchingSpeed = 0.25;
 // The fraction of the estimated position error the force control corrects in one step.
 constexpr double kCorrectionGain = 0.2;
 
@@ -84,6 +84,7 @@ class Grasp {
     BodyOptions body_options;
     body_options.damping_beta = options.damping_beta;
     body_options.friction = options.friction;
+    body_options.orientation_threshold = options.orientation_threshold;
     body_ = world_.AddBody("object", model, body_options);
     const Eigen::Matrix3Xd& x = model->rest_positions();
     const BorderNodes& border = world_.border(body_);
@@ -155,7 +156,7 @@ class Grasp {
         pad.stiffness *= 2.0;
       }
       pad.error = error;
-      // Touching, a tenth of the speed: a pad striking the object at full speed reads impacts.
+      // Touching, a quarter of the speed: a pad striking the object at full speed reads impacts.
       double closing =
           pad.touch >= 0.0 ? kTouchingSpeed * options_.close_speed : options_.close_speed;
       if (pad.stiffness > 0.0) {

@@ -107,6 +107,7 @@ struct GraspArguments {
   double lift = 0.05;                   ///< m
   double lift_time = 1.0;               ///< s
   double damping = 1e-3;                ///< s, spring dampers c = beta k
+  double orientation_threshold = 0.2;   ///< 0 (off) or in (0, 1): core::BodyOptions
   std::string integrator = "explicit";  ///< explicit | implicit
 };
 

@@ -36,6 +36,12 @@ void AddGraspCommand(CLI::App* app, CommandLine* line) {
       ->capture_default_str()
       ->check(Finite(true));
   command
+      ->add_option("--orientation-threshold", grasp.orientation_threshold,
+                   "cubic lattices: cells squeezed below this fraction of their volume are "
+                   "pushed back (0 off; keeps hard squeezes from folding the lattice)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.99));
+  command
       ->add_option("--integrator", grasp.integrator,
                    "explicit (position Verlet, stable substeps) | implicit (one substep a step)")
       ->capture_default_str()

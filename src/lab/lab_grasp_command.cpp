@@ -56,6 +56,7 @@ core::GraspExperimentOptions GraspOptions(const GraspArguments& grasp) {
   options.lift = grasp.lift;
   options.lift_time = grasp.lift_time;
   options.damping_beta = grasp.damping;
+  options.orientation_threshold = grasp.orientation_threshold;
   if (!core::ParseIntegrator(grasp.integrator, &options.integrator)) {
     throw std::invalid_argument("unknown integrator '" + grasp.integrator +
                                 "' (expected explicit or implicit)");

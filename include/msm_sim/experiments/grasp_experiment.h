@@ -21,14 +21,18 @@ struct GraspExperimentOptions {
   double pad_size = 0.02;       ///< m, edge of the pads' square faces, finite, > 0
   double pad_thickness = 0.01;  ///< m, along the closing axis, finite, > 0
   double close_speed = 0.02;    ///< m/s, the pads' fastest closing (force control), finite, > 0
-  double close_timeout = 2.0;   ///< s: the hold starts when the squeeze is reached or after this
+  double close_timeout = 3.0;   ///< s: the hold starts when the squeeze is reached or after this
   double hold_time = 0.5;       ///< s, finite, >= 0
   double lift = 0.05;           ///< m, finite, >= 0
   double lift_time = 1.0;       ///< s, finite, > 0
   double final_hold = 1.0;      ///< s, finite, >= 0
   double gravity = 9.81;        ///< m/s^2, finite, > 0, along -z
   double damping_beta = 1e-3;   ///< s, finite, >= 0: the body's spring dampers c = beta k
-  double step = 1e-3;           ///< s, finite, > 0: World::Step(step), subdivided inside
+  /// BodyOptions::orientation_threshold, 0 (off) or in (0, 1); ignored by a model without cells
+  /// (random lattices). On by default: a hard squeeze folds the cells of a cubic lattice under
+  /// the pads' edges, which then snap through (docs/physics.md §4, "Orientation barrier").
+  double orientation_threshold = 0.2;
+  double step = 1e-3;  ///< s, finite, > 0: World::Step(step), subdivided inside
   /// The body counts as held when it rose at least held_rise times the lift and slipped at most
   /// held_slip (m) relative to the pads.
   double held_rise = 0.98;
