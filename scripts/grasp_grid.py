@@ -5,7 +5,7 @@ Shapes: sphere 5 cm, cylinder 4 x 6 cm lying across the pads, ellipsoid 6 x 4 x 
 bean mesh (meshes/soft_bean.obj scaled to 5 cm); nu 0.3 and 0.49; spacings 2.5, 3 and 5 mm;
 mu 0.5 and 0.8; both integrators; Q 1.5 (must hold) and 0.6 (must drop). E 259 kPa, rho 1070.
 Usage: grasp_grid.py MSM_LAB [--quick] [--spacings A ...] [--integrators NAME ...]
-(--quick: spacings 5 and 3 mm, explicit only; --spacings, --integrators: these only).
+[--shapes NAME ...] (--quick: spacings 5 and 3 mm, explicit only; the others: these only).
 """
 import itertools
 import json
@@ -46,9 +46,10 @@ def main():
           "Q 0.6: rise mm | Q 30: max speed m/s | verdict |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     failures = 0
+    shapes = option("--shapes") or list(SHAPES)
     # The quickest rows first: a long run's table fills from coarse to fine.
     for integrator, spacing, shape, nu, mu in itertools.product(
-            integrators, spacings, SHAPES, ["0.3", "0.49"], ["0.5", "0.8"]):
+            integrators, spacings, shapes, ["0.3", "0.49"], ["0.5", "0.8"]):
         results = {}
         for q in ["1.5", "0.6", "30"]:
             if q == "30" and mu != "0.8":
