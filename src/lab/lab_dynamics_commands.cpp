@@ -22,12 +22,6 @@ core::DispersionPasses Dispersion(const std::string& name) {
   throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
 }
 
-core::Integrator IntegratorNamed(const std::string& name) {
-  core::Integrator integrator = core::Integrator::kExplicit;
-  if (core::ParseIntegrator(name, &integrator)) return integrator;
-  throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
-}
-
 core::SpringPrecision PrecisionNamed(const std::string& name) {
   return name == "single" ? core::SpringPrecision::kSingle : core::SpringPrecision::kDouble;
 }

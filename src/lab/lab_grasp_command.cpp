@@ -3,7 +3,6 @@
 #include <cmath>
 #include <iomanip>
 #include <memory>
-#include <stdexcept>
 #include <utility>
 
 #include "lab_model.h"
@@ -57,10 +56,7 @@ core::GraspExperimentOptions GraspOptions(const GraspArguments& grasp) {
   options.lift_time = grasp.lift_time;
   options.damping_beta = grasp.damping;
   options.orientation_threshold = grasp.orientation_threshold;
-  if (!core::ParseIntegrator(grasp.integrator, &options.integrator)) {
-    throw std::invalid_argument("unknown integrator '" + grasp.integrator +
-                                "' (expected explicit or implicit)");
-  }
+  options.integrator = IntegratorNamed(grasp.integrator);
   return options;
 }
 

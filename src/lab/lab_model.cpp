@@ -64,6 +64,12 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
   return recipe;
 }
 
+core::Integrator IntegratorNamed(const std::string& name) {
+  core::Integrator integrator = core::Integrator::kExplicit;
+  if (core::ParseIntegrator(name, &integrator)) return integrator;
+  throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
+}
+
 core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body) {
   return core::BuildModel(LabRecipe(arguments, body));
 }

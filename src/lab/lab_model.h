@@ -2,11 +2,13 @@
 // The lab's bodies and models: command-line arguments turned into the core's BodyRecipe.
 
 #include <memory>
+#include <string>
 
 #include <Eigen/Core>
 
 #include "lab_arguments.h"
 #include "msm_sim/build/body_recipe.h"
+#include "msm_sim/dynamics/integrator.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/model/model.h"
 
@@ -27,6 +29,10 @@ LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin);
 /// The recipe of the model the arguments describe in the body. Throws std::invalid_argument for
 /// an invalid material, spring law or model name, with a message meant for the user.
 core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body);
+
+/// The integrator an --integrator argument names. Throws std::invalid_argument, with a message
+/// meant for the user, for any other name than explicit and implicit.
+core::Integrator IntegratorNamed(const std::string& name);
 
 /// Builds the model the arguments describe in the body: core::BuildModel(LabRecipe(...)).
 /// Throws std::invalid_argument for an invalid material, geometry or option combination, with a
