@@ -16,12 +16,6 @@
 namespace msm_sim::lab {
 namespace {
 
-core::DispersionPasses Dispersion(const std::string& name) {
-  if (name == "two-pass") return core::DispersionPasses::kTwoPass;
-  if (name == "one-pass") return core::DispersionPasses::kOnePass;
-  throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
-}
-
 core::SpringPrecision PrecisionNamed(const std::string& name) {
   return name == "single" ? core::SpringPrecision::kSingle : core::SpringPrecision::kDouble;
 }
@@ -46,7 +40,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.sphere_radius = contact.sphere_radius;
   options.seconds = contact.seconds;
   options.damping_beta = contact.damping;
-  options.dispersion = Dispersion(arguments.model.dispersion);
+  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
   options.threads = contact.threads;
   options.spring_precision = PrecisionNamed(contact.precision);
@@ -131,7 +125,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.speed = contact.speed;
   options.damping_beta = contact.damping;
   options.friction = contact.friction;
-  options.dispersion = Dispersion(arguments.model.dispersion);
+  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
   options.spring_precision = PrecisionNamed(contact.precision);
   const auto model = LabBlock(arguments.model);
@@ -181,7 +175,7 @@ int RunGrip(const LabArguments& arguments, std::ostream& out) {
   options.squeeze = grip.squeeze;
   options.damping_beta = grip.damping;
   options.lift_time = grip.lift_time;
-  options.dispersion = Dispersion(arguments.model.dispersion);
+  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(grip.integrator);
   const auto model = LabBlock(arguments.model);
   const core::GripExperimentResult r = core::RunGripExperiment(model, options);

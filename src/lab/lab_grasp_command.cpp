@@ -48,8 +48,10 @@ LabBody GraspBody(const LabArguments& arguments) {
   return BodyOfSolid(core::SolidMesh(mesh));
 }
 
-core::GraspExperimentOptions GraspOptions(const GraspArguments& grasp) {
+core::GraspExperimentOptions GraspOptions(const LabArguments& arguments) {
+  const GraspArguments& grasp = arguments.grasp;
   core::GraspExperimentOptions options;
+  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.friction = grasp.friction;
   options.force_ratio = grasp.force_ratio;
   options.lift = grasp.lift;
@@ -82,7 +84,7 @@ void PrintGrasp(const LabArguments& arguments, const core::Model& model,
 
 int RunGrasp(const LabArguments& arguments, std::ostream& out) {
   const GraspArguments& grasp = arguments.grasp;
-  const core::GraspExperimentOptions options = GraspOptions(grasp);
+  const core::GraspExperimentOptions options = GraspOptions(arguments);
   const auto model =
       std::make_shared<const core::Model>(BuildLabModel(arguments.model, GraspBody(arguments)));
   const core::GraspExperimentResult r = core::RunGraspExperiment(model, options);

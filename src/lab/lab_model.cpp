@@ -70,6 +70,12 @@ core::Integrator IntegratorNamed(const std::string& name) {
   throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
 }
 
+core::DispersionPasses DispersionNamed(const std::string& name) {
+  if (name == "two-pass") return core::DispersionPasses::kTwoPass;
+  if (name == "one-pass") return core::DispersionPasses::kOnePass;
+  throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
+}
+
 core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body) {
   return core::BuildModel(LabRecipe(arguments, body));
 }

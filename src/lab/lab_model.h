@@ -10,6 +10,7 @@
 #include "msm_sim/build/body_recipe.h"
 #include "msm_sim/dynamics/integrator.h"
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::lab {
@@ -33,6 +34,10 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
 /// The integrator an --integrator argument names. Throws std::invalid_argument, with a message
 /// meant for the user, for any other name than explicit and implicit.
 core::Integrator IntegratorNamed(const std::string& name);
+
+/// The dispersion a --dispersion argument names (two-pass or one-pass). Throws
+/// std::invalid_argument, with a message meant for the user, for any other name.
+core::DispersionPasses DispersionNamed(const std::string& name);
 
 /// Builds the model the arguments describe in the body: core::BuildModel(LabRecipe(...)).
 /// Throws std::invalid_argument for an invalid material, geometry or option combination, with a
