@@ -56,12 +56,34 @@ void StepToFirstContact(World* world, int body, int sphere,
   }
 }
 
+// The sphere centre's height when its lowest point reaches the body's surface under it: the
+// plane through the highest collision-sphere top among the border nodes within one
+// characteristic length of its axis. A measured curve counts depth from the flat surface, so
+// the lattice's does too. The first collision sphere the sphere touches is no such reference:
+// where the axis falls between nodes, the sphere touches them about s^2 / (2 (R + r)) below
+// their tops (s their horizontal distance from the axis), a depth offset that reads as a force
+// above Hertz's at shallow depths and depends on where the probe lands on the lattice
+// (docs/design/indentation-fit.md). Falls back to that first touch if no node is that near.
+double SurfaceContactHeight(const Model& model, const BorderNodes& border,
+                            const Eigen::Vector2d& axis, double radius) {
+  const Eigen::Matrix3Xd& x = model.rest_positions();
+  const double near = model.characteristic_length();
+  double top = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    const Eigen::Vector3d p = x.col(border.nodes[k]);
+    if ((p.head<2>() - axis).squaredNorm() > near * near) continue;
+    top = std::max(top, p.z() + border.radii[k]);
+  }
+  if (!std::isfinite(top)) return SphereTouchdownHeight(x, border, axis, radius);
+  return top + radius;
+}
+
 // Presses from first contact to the full depth, one profile row per run of steps covering
 // about D / samples of depth: the mean depth and force of its steps. Depth is measured from
-// `touch_z`, the sphere's height when it touches the first collision sphere under it, not from
-// the end of the step that first records a force: that step ends up to one step's travel later,
-// which reads as a force above Hertz's, the more the shallower (docs/lab.md, "indent").
-std::vector<IndentationSample> Press(World* world, int body, int sphere, double touch_z,
+// `surface_z`, SurfaceContactHeight, not from the end of the step that first records a force:
+// that step ends up to one step's travel later, which reads as a force above Hertz's, the more
+// the shallower (docs/lab.md, "indent").
+std::vector<IndentationSample> Press(World* world, int body, int sphere, double surface_z,
                                      const IndentationExperimentOptions& options) {
   const int steps_per_row =
       std::max(1, static_cast<int>(std::lround(options.depth / options.samples /
@@ -73,7 +95,7 @@ std::vector<IndentationSample> Press(World* world, int body, int sphere, double 
   double depth = 0.0;
   while (depth < options.depth * (1.0 - 1e-9)) {
     StepOrThrow(world, options.step);
-    depth = touch_z - world->collider(sphere).pose.translation().z();
+    depth = surface_z - world->collider(sphere).pose.translation().z();
     row.depth += depth;
     row.force += world->wrenches(body)[sphere].force.z();
     if (++in_row < steps_per_row && depth < options.depth * (1.0 - 1e-9)) continue;
@@ -169,10 +191,14 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
     Hold(&world, body, sphere, options, &result);
     return result;
   }
-  const double touch_z = world.collider(sphere).pose.translation().z() - options.start_gap;
+  const double surface_z = SurfaceContactHeight(*model, world.border(body),
+                                                world.collider(sphere).pose.translation().head<2>(),
+                                                options.sphere_radius);
+  result.touch_depth =
+      surface_z - (world.collider(sphere).pose.translation().z() - options.start_gap);
   StepToFirstContact(&world, body, sphere, options);
   result.contact_time = world.time();
-  result.profile = Press(&world, body, sphere, touch_z, options);
+  result.profile = Press(&world, body, sphere, surface_z, options);
   result.seconds_simulated = world.time();
   result.steps = static_cast<int>(std::lround(world.time() / options.step));
   return result;

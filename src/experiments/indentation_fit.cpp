@@ -84,6 +84,28 @@ double LeastSquaresScale(const std::vector<IndentationPoint>& curve,
   return squares > 0.0 ? cross / squares : 0.0;
 }
 
+ContactResolution ResolutionOf(const std::vector<IndentationPoint>& curve, double sphere_radius,
+                               double spacing) {
+  if (curve.empty()) throw std::invalid_argument("the indentation curve is empty");
+  if (!(sphere_radius > 0.0) || !(spacing > 0.0) || !std::isfinite(sphere_radius + spacing)) {
+    throw std::invalid_argument("the sphere radius and the spacing must be finite and > 0");
+  }
+  ContactResolution resolution;
+  resolution.contact_radius = std::sqrt(sphere_radius * curve.back().depth);
+  resolution.spacing = spacing;
+  resolution.nodes_across = resolution.contact_radius / spacing;
+  return resolution;
+}
+
+ContactResolution ResolvingResolution(const std::vector<IndentationPoint>& curve,
+                                      double sphere_radius) {
+  if (curve.empty() || !(curve.back().depth > 0.0)) {
+    throw std::invalid_argument("the indentation curve has no depth > 0");
+  }
+  const double contact_radius = std::sqrt(sphere_radius * curve.back().depth);
+  return ResolutionOf(curve, sphere_radius, contact_radius / kNodesAcrossContactRadius);
+}
+
 IndentationFitResult FitYoungsModulus(const std::vector<IndentationPoint>& curve,
                                       const IndentationSimulator& simulate,
                                       const IndentationFitOptions& options) {
@@ -132,25 +154,29 @@ void CheckMaterialFitOptions(const MaterialFitOptions& options) {
   }
 }
 
-// Regula falsi with the Illinois modification on g(ν) between two trials of opposite sign: the
-// best trial (least |g|); *converged when the bracket or |g| fell within the tolerances.
+// Regula falsi with the Illinois modification on g(nu) between two trials of opposite sign.
+// Returns the first interior trial with |g| within the tolerance, else the end of the final
+// bracket with the smaller |g|; *converged when either happened. A bracket end is never taken
+// for small |g| alone: near nu = 1/2 an unresolved lattice's g need not be monotonic, and noise
+// can bring an end within the tolerance far from the sign change the bracket closes on.
 PoissonTrial BracketedPoissonRoot(PoissonTrial low, PoissonTrial high,
                                   const std::function<PoissonTrial(double)>& trial,
                                   const MaterialFitOptions& options, bool* converged) {
-  PoissonTrial best = std::abs(low.g) < std::abs(high.g) ? low : high;
   double g_low = low.g, g_high = high.g;  // Illinois: the stuck end's g is halved
   int last_moved = 0;                     // -1 low, +1 high
   const double g_tolerance = std::log1p(options.youngs.tolerance);
-  for (int trials = 2;
-       trials < options.max_poisson_trials &&
-       high.poisson - low.poisson > options.poisson_tolerance && std::abs(best.g) > g_tolerance;
+  for (int trials = 2; trials < options.max_poisson_trials &&
+                       high.poisson - low.poisson > options.poisson_tolerance;
        ++trials) {
     double poisson = (low.poisson * g_high - high.poisson * g_low) / (g_high - g_low);
     if (!(poisson > low.poisson && poisson < high.poisson)) {
       poisson = 0.5 * (low.poisson + high.poisson);
     }
     const PoissonTrial t = trial(poisson);
-    if (std::abs(t.g) < std::abs(best.g)) best = t;
+    if (std::abs(t.g) <= g_tolerance) {
+      *converged = true;
+      return t;
+    }
     if ((t.g > 0.0) == (low.g > 0.0)) {
       low = t;
       g_low = t.g;
@@ -163,9 +189,8 @@ PoissonTrial BracketedPoissonRoot(PoissonTrial low, PoissonTrial high,
       last_moved = 1;
     }
   }
-  *converged =
-      high.poisson - low.poisson <= options.poisson_tolerance || std::abs(best.g) <= g_tolerance;
-  return best;
+  *converged = high.poisson - low.poisson <= options.poisson_tolerance;
+  return std::abs(low.g) < std::abs(high.g) ? low : high;
 }
 
 }  // namespace

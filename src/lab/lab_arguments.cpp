@@ -305,10 +305,10 @@ void ApplyRealtimeDefaults(CommandLine* line) {
   if (line->realtime->get_option("--density")->count() == 0) model.density = 1100.0;
 }
 
-// fit's defaults (see its help): about 4,000 nodes when no spacing is given, nu 0.49.
+// fit's defaults (see its help): nu 0.49. With neither --spacing nor --target-nodes, RunFit
+// chooses a spacing that resolves the contact (lab_fit_command.cpp).
 void ApplyFitDefaults(CommandLine* line) {
   ModelArguments& model = line->arguments.model;
-  if (model.spacing == 0.0 && model.target_nodes == 0) model.target_nodes = 4000;
   if (line->fit->get_option("--poisson")->count() == 0) model.poisson = 0.49;
   const std::vector<double>& second = line->second_size;
   if (!second.empty()) {

@@ -136,6 +136,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
     profile.push_back({row.depth, row.force, row.hertz_force});
   }
   Json json{{"profile", profile},
+            {"touch_depth", result.touch_depth},
             {"nodes", model->num_nodes()},
             {"seconds", result.seconds_simulated},
             {"integrator", contact.integrator}};

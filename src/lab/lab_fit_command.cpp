@@ -1,9 +1,11 @@
 #include "lab_fit_command.h"
 
 #include <cctype>
+#include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -34,6 +36,68 @@ void CheckMaterialName(const std::string& name) {
   }
 }
 
+// The lattice spacing a fit simulates at, against the contact it must resolve.
+struct FitResolution {
+  core::ContactResolution contact;  // of the first curve at the spacing used
+  bool chosen = false;              // by the rule (no --spacing or --target-nodes given)
+};
+
+// The spacing --spacing or --target-nodes gives on this block.
+double GivenSpacing(const ModelArguments& model, const Eigen::Vector3d& size) {
+  if (model.target_nodes > 0) return std::cbrt(size.prod() / model.target_nodes);
+  return model.spacing;
+}
+
+// Refuses a block the resolving spacing would fill with more than the fit's node budget.
+void CheckNodeBudget(const Eigen::Vector3d& size, const core::ContactResolution& resolution) {
+  const double nodes = size.prod() / std::pow(resolution.spacing, 3);
+  if (nodes <= core::kIndentationFitNodeBudget) return;
+  std::ostringstream message;
+  message << std::setprecision(3) << "resolving the contact (" << core::kNodesAcrossContactRadius
+          << " nodes across its radius " << 1e3 * resolution.contact_radius << " mm: spacing "
+          << 1e3 * resolution.spacing << " mm) needs about " << static_cast<long long>(nodes)
+          << " nodes on the " << 1e3 * size.x() << " x " << 1e3 * size.y() << " x "
+          << 1e3 * size.z() << " mm block, more than the fit's budget of "
+          << static_cast<long long>(core::kIndentationFitNodeBudget)
+          << "; give a block about 10 contact radii (" << std::setprecision(3)
+          << 1e4 * resolution.contact_radius
+          << " mm) wide and deep, or --spacing to fit at a coarser resolution";
+  throw std::invalid_argument(message.str());
+}
+
+// The fit's spacing (docs/lab.md "fit"): given, or chosen with kNodesAcrossContactRadius nodes
+// across the smallest of the curves' largest contact radii, within the node budget. Sets it on
+// *arguments; warns on `err` when a given spacing does not resolve the contact.
+FitResolution ResolveSpacing(LabArguments* arguments,
+                             const std::vector<core::IndentationPoint>& curve,
+                             const std::vector<core::IndentationPoint>& second, std::ostream& err) {
+  ModelArguments& model = arguments->model;
+  const double radius = arguments->contact.sphere_radius;
+  FitResolution resolution;
+  resolution.chosen = model.spacing == 0.0 && model.target_nodes == 0;
+  if (!resolution.chosen) {
+    resolution.contact = core::ResolutionOf(curve, radius, GivenSpacing(model, model.size));
+  } else {
+    core::ContactResolution rule = core::ResolvingResolution(curve, radius);
+    if (!second.empty()) {
+      const core::ContactResolution other = core::ResolvingResolution(second, radius);
+      if (other.spacing < rule.spacing) rule.spacing = other.spacing;
+      CheckNodeBudget(arguments->fit.second_size, rule);
+    }
+    CheckNodeBudget(model.size, rule);
+    model.spacing = rule.spacing;
+    resolution.contact = core::ResolutionOf(curve, radius, rule.spacing);
+  }
+  if (resolution.contact.nodes_across < core::kNodesAcrossContactRadius * (1.0 - 1e-9)) {
+    err << std::setprecision(3) << "msm_lab: warning: the spacing "
+        << 1e3 * resolution.contact.spacing << " mm puts " << resolution.contact.nodes_across
+        << " nodes across the contact radius " << 1e3 * resolution.contact.contact_radius
+        << " mm (fewer than " << core::kNodesAcrossContactRadius
+        << "): E is this lattice's, not the material's (omit --spacing to resolve the contact)\n";
+  }
+  return resolution;
+}
+
 // What either fit found, for the report and the YAML entry.
 struct FitOutcome {
   double youngs = 0.0, poisson = 0.0, residual = 0.0;
@@ -42,6 +106,7 @@ struct FitOutcome {
   Json details;  // the fit's own JSON keys
   int nodes = 0;
   double deepest = 0.0;
+  FitResolution resolution;
 };
 
 // One measured sample: `indent` on its block, to its curve's deepest depth, for any material.
@@ -99,8 +164,8 @@ FitOutcome FitYoungs(const LabArguments& arguments,
 }
 
 FitOutcome FitYoungsAndPoisson(const LabArguments& arguments,
-                               const std::vector<core::IndentationPoint>& curve) {
-  const std::vector<core::IndentationPoint> second = ReadCurve(arguments.fit.second_curve);
+                               const std::vector<core::IndentationPoint>& curve,
+                               const std::vector<core::IndentationPoint>& second) {
   Sample first_sample(arguments, arguments.model.size, curve);
   Sample second_sample(arguments, arguments.fit.second_size, second);
   core::MaterialFitOptions options;
@@ -120,36 +185,60 @@ FitOutcome FitYoungsAndPoisson(const LabArguments& arguments,
   return outcome;
 }
 
+// True when the fit's lattice resolves the contact, so that its E is the material's.
+bool Resolved(const FitResolution& resolution) {
+  return resolution.contact.nodes_across >= core::kNodesAcrossContactRadius * (1.0 - 1e-9);
+}
+
 void WriteYaml(const LabArguments& arguments, const FitOutcome& fit) {
   std::ofstream file(arguments.fit.yaml);
   const ModelArguments& model = arguments.model;
+  const core::ContactResolution& contact = fit.resolution.contact;
   file << std::setprecision(6) << "# msm_lab fit of " << arguments.fit.curve
        << (arguments.fit.fit_poisson ? " and " + arguments.fit.second_curve : "")
        << ": sphere radius " << arguments.contact.sphere_radius << " m, block " << model.size.x()
        << " x " << model.size.y() << " x " << model.size.z() << " m clamped at its base, "
-       << fit.nodes << " nodes;\n# RMS residual " << fit.residual << " of the largest force, "
-       << fit.simulations << " simulations. Load it like config/materials.yaml.\n"
+       << fit.nodes << " nodes, spacing " << contact.spacing << " m (" << std::setprecision(3)
+       << contact.nodes_across << " across the contact radius)" << std::setprecision(6)
+       << ";\n# RMS residual " << fit.residual << " of the largest force, " << fit.simulations
+       << " simulations. Load it like config/materials.yaml.\n"
        << "materials:\n  " << arguments.fit.name << ":\n    youngs: " << fit.youngs
        << "\n    poisson: " << fit.poisson << "\n    density: " << model.density << "\n";
   if (!file.good()) throw std::runtime_error("cannot write " + arguments.fit.yaml);
 }
 
+void PrintFitJson(const LabArguments& arguments, const FitOutcome& fit, std::ostream& out) {
+  const core::ContactResolution& contact = fit.resolution.contact;
+  Json json{{"youngs", fit.youngs},
+            {"poisson", fit.poisson},
+            {"residual", fit.residual},
+            {"simulations", fit.simulations},
+            {"converged", fit.converged},
+            {"nodes", fit.nodes},
+            {"deepest_depth", fit.deepest},
+            {"spacing", contact.spacing},
+            {"contact_radius", contact.contact_radius},
+            {"nodes_across_contact", contact.nodes_across},
+            {"resolution", fit.resolution.chosen ? "chosen" : "given"},
+            {"contact_resolved", Resolved(fit.resolution)}};
+  json.update(fit.details);
+  if (!arguments.fit.yaml.empty()) json["yaml"] = arguments.fit.yaml;
+  out << json.dump() << "\n";
+}
+
 void PrintFit(const LabArguments& arguments, const FitOutcome& fit, std::ostream& out) {
-  if (arguments.json) {
-    Json json{{"youngs", fit.youngs},        {"poisson", fit.poisson},
-              {"residual", fit.residual},    {"simulations", fit.simulations},
-              {"converged", fit.converged},  {"nodes", fit.nodes},
-              {"deepest_depth", fit.deepest}};
-    json.update(fit.details);
-    if (!arguments.fit.yaml.empty()) json["yaml"] = arguments.fit.yaml;
-    out << json.dump() << "\n";
-    return;
-  }
+  if (arguments.json) return PrintFitJson(arguments, fit, out);
+  const core::ContactResolution& contact = fit.resolution.contact;
   out << std::setprecision(5) << "fit of " << arguments.fit.curve << " to " << 1e3 * fit.deepest
       << " mm, sphere radius " << arguments.contact.sphere_radius << " m, " << fit.nodes
       << " nodes\n"
-      << "Young's modulus  " << fit.youngs << " Pa" << (fit.converged ? "" : " (not converged)")
-      << "\nPoisson's ratio  " << fit.poisson
+      << std::setprecision(3) << "resolution       spacing " << 1e3 * contact.spacing << " mm, "
+      << contact.nodes_across << " nodes across the contact radius " << 1e3 * contact.contact_radius
+      << " mm (" << (fit.resolution.chosen ? "chosen" : "given") << "; at least "
+      << core::kNodesAcrossContactRadius << " resolve it)\n"
+      << std::setprecision(5) << "Young's modulus  " << fit.youngs << " Pa"
+      << (Resolved(fit.resolution) ? " (the material's)" : " (this lattice's: contact unresolved)")
+      << (fit.converged ? "" : " (not converged)") << "\nPoisson's ratio  " << fit.poisson
       << (arguments.fit.fit_poisson ? " (fitted to both curves)" : " (given)") << "\n";
   if (fit.details.contains("hertz_youngs")) {
     out << "Hertz estimate   " << fit.details["hertz_youngs"].get<double>()
@@ -165,11 +254,17 @@ void PrintFit(const LabArguments& arguments, const FitOutcome& fit, std::ostream
 
 }  // namespace
 
-int RunFit(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
-  CheckMaterialName(arguments.fit.name);
-  const std::vector<core::IndentationPoint> curve = ReadCurve(arguments.fit.curve);
-  const FitOutcome fit = arguments.fit.fit_poisson ? FitYoungsAndPoisson(arguments, curve)
-                                                   : FitYoungs(arguments, curve);
+int RunFit(const LabArguments& given, std::ostream& out, std::ostream& err) {
+  CheckMaterialName(given.fit.name);
+  const std::vector<core::IndentationPoint> curve = ReadCurve(given.fit.curve);
+  const std::vector<core::IndentationPoint> second = given.fit.fit_poisson
+                                                         ? ReadCurve(given.fit.second_curve)
+                                                         : std::vector<core::IndentationPoint>{};
+  LabArguments arguments = given;
+  const FitResolution resolution = ResolveSpacing(&arguments, curve, second, err);
+  FitOutcome fit = arguments.fit.fit_poisson ? FitYoungsAndPoisson(arguments, curve, second)
+                                             : FitYoungs(arguments, curve);
+  fit.resolution = resolution;
   if (!arguments.fit.yaml.empty()) WriteYaml(arguments, fit);
   PrintFit(arguments, fit, out);
   if (fit.converged) return 0;

@@ -32,8 +32,8 @@ void AddFitCommand(CLI::App* app, CommandLine* line) {
   CLI::App* command = line->fit = app->add_subcommand(
       "fit",
       "the Young's modulus for which indent on the same block reproduces a measured curve of a "
-      "spherical probe (1-D search from Hertz's estimate); defaults: cubic, about 4,000 nodes, "
-      "nu 0.49");
+      "spherical probe (1-D search from Hertz's estimate); defaults: cubic, a spacing with 4 "
+      "nodes across the largest contact radius sqrt(R depth), nu 0.49");
   command->add_option("--indent", fit.curve, "CSV of depth_m,force_N rows, depth past contact")
       ->required()
       ->check(CLI::ExistingFile);

@@ -36,12 +36,18 @@ TEST(IndentationExperiment, ForceGrowsWithDepthNearHertz) {
   options.sphere_radius = 0.01;
   options.depth = 0.004;
   const IndentationExperimentResult result = RunIndentationExperiment(CoarseBlock(0.25), options);
-  ASSERT_EQ(result.profile.size(), 50u);  // rows of 16 steps of 5 um
+  // 12 nodes a side: the sphere's axis falls between four nodes 3.5 mm away, which it touches
+  // s^2 / (2 (R + r)) below the surface that depth is counted from (a few tenths of a mm).
+  EXPECT_GT(result.touch_depth, 0.1e-3);
+  EXPECT_LT(result.touch_depth, 1e-3);
+  // Rows of 16 steps of 5 um from the first touch to 4 mm below the surface.
+  const double pressed = 0.004 - result.touch_depth;
+  EXPECT_NEAR(static_cast<double>(result.profile.size()), pressed / (16 * 5e-6), 1.0);
   EXPECT_GT(result.contact_time, 0.0);
-  // 4 mm from touchdown at 5 mm/s; the gap of 0.1 mm closes at the end of step 20 and the first
-  // force is recorded at the end of step 21, one step into the 800.
+  // The gap of 0.1 mm closes at the end of step 20 and the first force is recorded at the end
+  // of step 21; then the sphere presses the rest of the way at 5 mm/s, in whole steps.
   EXPECT_NEAR(result.contact_time, 0.021, 1e-9);
-  EXPECT_NEAR(result.seconds_simulated - result.contact_time, 0.799, 1e-9);
+  EXPECT_NEAR(result.seconds_simulated - result.contact_time, pressed / 0.005, 1.5e-3);
   double previous_depth = -1.0, previous_force = 0.0;
   for (const IndentationSample& row : result.profile) {
     EXPECT_GT(row.depth, previous_depth);

@@ -144,6 +144,24 @@ TEST(IndentationFit, RefusesASimulationWithoutForce) {
       std::invalid_argument);
 }
 
+// The fit's resolution rule: kNodesAcrossContactRadius spacings across sqrt(R delta_max), Hertz's
+// contact radius at the curve's deepest point (the case: R = 8 mm, 0.4 mm deep).
+TEST(ContactResolution, FourSpacingsAcrossTheLargestContactRadius) {
+  const std::vector<IndentationPoint> curve = {{1e-4, 0.01}, {4e-4, 0.08}};
+  const ContactResolution rule = ResolvingResolution(curve, 0.008);
+  EXPECT_NEAR(rule.contact_radius, std::sqrt(0.008 * 4e-4), 1e-15);
+  EXPECT_NEAR(rule.spacing, rule.contact_radius / kNodesAcrossContactRadius, 1e-15);
+  EXPECT_NEAR(rule.nodes_across, kNodesAcrossContactRadius, 1e-12);
+  EXPECT_GE(kNodesAcrossContactRadius, 4.0);  // the floor
+  // The former default, about 4,000 nodes on the 18 mm cube: 1.6 nodes across.
+  const ContactResolution coarse =
+      ResolutionOf(curve, 0.008, std::cbrt(0.018 * 0.018 * 0.018 / 4000));
+  EXPECT_NEAR(coarse.nodes_across, 1.58, 0.01);
+  EXPECT_THROW(ResolutionOf({}, 0.008, 1e-3), std::invalid_argument);
+  EXPECT_THROW(ResolutionOf(curve, 0.008, 0.0), std::invalid_argument);
+  EXPECT_THROW(ResolvingResolution({{0.0, 0.0}}, 0.008), std::invalid_argument);
+}
+
 // Two stand-in samples: the first's force follows E/(1 - nu^2) (a thick block), the second's
 // also rises with nu (a thin clamped layer), each times Hertz's shape at E = 1 Pa.
 std::vector<IndentationSample> StandIn(double youngs, double poisson, bool layer) {

@@ -92,8 +92,13 @@ TEST(LabCliIndent, JsonProfileRowsAreDepthForceHertz) {
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto json = nlohmann::json::parse(run.out);
   EXPECT_EQ(json["nodes"], 256);
-  EXPECT_GT(json["seconds"].get<double>(), 0.4);  // 2 mm at 5 mm/s after the approach
-  ASSERT_EQ(json["profile"].size(), 50u);
+  // The sphere first touches the lattice touch_depth below the surface (8 nodes a side: its axis
+  // falls between four nodes), then presses to 2 mm below it at 5 mm/s, in rows of 2 mm / 50.
+  const double touch_depth = json["touch_depth"].get<double>();
+  EXPECT_GT(touch_depth, 0.0);
+  EXPECT_LT(touch_depth, 1e-3);
+  EXPECT_GT(json["seconds"].get<double>(), (0.002 - touch_depth) / 0.005);
+  ASSERT_NEAR(static_cast<double>(json["profile"].size()), (0.002 - touch_depth) / 4e-5, 1.0);
   for (const auto& row : json["profile"]) {
     ASSERT_EQ(row.size(), 3u);
     for (const auto& value : row) EXPECT_TRUE(value.is_number());

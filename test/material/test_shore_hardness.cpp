@@ -109,6 +109,18 @@ TEST(ShoreHardness, DatasheetModuliLieWithinTheStatedUncertainty) {
   }
 }
 
+// A second manufacturer's silicone, measured rather than from a datasheet (docs/materials.md,
+// section 5): Polytek PlatSil Gel-10, Shore A 10, pulled to 100 % strain in the Soft Robotics
+// Materials Database (github.com/LucMarechal/Soft-Robotics-Materials-Database,
+// Tensile-Tests-Data/PlatSil Gel 10.csv: engineering stress 0.146955 MPa at engineering strain
+// 1.0). Converted the same way, within the same factor of 2.
+TEST(ShoreHardness, AMeasuredPolytekGelLiesWithinTheStatedUncertainty) {
+  const double measured = 3.0 * 0.146955e6 / 1.75;
+  const double converted = YoungsFromShoreA(10.0).youngs;
+  EXPECT_GE(converted / measured, 0.5);
+  EXPECT_LE(converted / measured, 2.0);
+}
+
 // Where the sphere relation hands over to Gent's (00 70 = Shore A 20) the two agree within 6 %.
 TEST(ShoreHardness, SphereAndGentAgreeWhereTheyMeet) {
   const double sphere = SphereYoungsFromShore00(70.0);

@@ -14,10 +14,12 @@ namespace msm_sim::core {
 /// The body is the model at rest, without gravity (so that it does not sag before contact); a
 /// kinematic group fixes the nodes within half a characteristic length of its lowest node. The
 /// sphere starts `start_gap` above the collision spheres of the nodes under it, above the centre
-/// of the model's bounding box, and moves down at `speed` until it is `depth` past first contact.
-/// Depth is measured from the height at which the sphere touches the first of those collision
-/// spheres (the body at rest, computed from the geometry), not from the step that first records
-/// a force, which ends up to one step's travel later.
+/// of the model's bounding box, and moves down at `speed` until it is `depth` into the surface.
+/// Depth is measured from the body's surface under the sphere, as a measured curve's is: the
+/// plane through the highest top of the collision spheres within one characteristic length of
+/// the sphere's axis (the body at rest, computed from the geometry). It is not measured from the
+/// first collision sphere touched, which lies slightly lower where the axis falls between nodes,
+/// nor from the step that first records a force, which ends up to one step's travel later.
 struct IndentationExperimentOptions {
   double sphere_radius = 0.01;  ///< R (m), finite, > 0 (the demo robot's fingertip)
   double depth = 0.005;         ///< D (m), finite, > 0 and less than the body's height
@@ -48,7 +50,7 @@ struct IndentationExperimentOptions {
 
 /// One row of the profile: a run of consecutive steps covering about D / samples of depth.
 struct IndentationSample {
-  double depth = 0.0;  ///< m past first contact, the mean over the row's steps
+  double depth = 0.0;  ///< m below the surface (above), the mean over the row's steps
   /// N, the mean over the row's steps of the vertical force the body exerts on the sphere
   /// (upwards positive; each step's force is its contact impulses over the step).
   double force = 0.0;
@@ -57,7 +59,11 @@ struct IndentationSample {
 
 struct IndentationExperimentResult {
   std::vector<IndentationSample> profile;  ///< by increasing depth
-  double contact_time = 0.0;       ///< s, simulated time at the end of the first step with force
+  double contact_time = 0.0;  ///< s, simulated time at the end of the first step with force
+  /// m, the depth below the surface at which the sphere touches the first collision sphere: 0
+  /// where a node lies under its axis, about s^2 / (2 (R + r)) where the axis falls between
+  /// nodes at horizontal distance s (pressing only).
+  double touch_depth = 0.0;
   double seconds_simulated = 0.0;  ///< s, up to depth D
   int steps = 0;
   /// start_depth > 0 only. Overlap (m): the deepest penetration of a border node's collision

@@ -56,6 +56,36 @@ IndentationFitResult FitYoungsModulus(const std::vector<IndentationPoint>& curve
                                       const IndentationSimulator& simulate,
                                       const IndentationFitOptions& options);
 
+/// How finely a lattice must resolve a spherical contact for its force to follow Hertz's: at
+/// least this many lattice spacings across the largest contact radius sqrt(R delta_max)
+/// (docs/physics.md §6.1; docs/design/indentation-fit.md measures the force against Hertz's).
+inline constexpr double kNodesAcrossContactRadius = 4.0;
+
+/// The most nodes `msm_lab fit` builds to resolve a contact. A block 10 contact radii wide and
+/// deep, all that Hertz's contact needs (its force is then within 2 % of the half-space's), has
+/// 64,000 to 69,000 nodes at 4 across the contact radius: the budget leaves three times that
+/// volume. Past it a fit's cost, nodes times steps (a finer spacing also shortens the stable
+/// step), grows without making E more accurate; docs/lab.md ("fit") explains the choice.
+inline constexpr double kIndentationFitNodeBudget = 200'000;
+
+/// The resolution of a fit's lattice relative to the contact it simulates.
+struct ContactResolution {
+  double contact_radius = 0.0;  ///< m, sqrt(R delta_max): Hertz's at the deepest depth
+  double spacing = 0.0;         ///< m, the lattice spacing
+  double nodes_across = 0.0;    ///< contact_radius / spacing
+};
+
+/// The resolution of `spacing` for a sphere of radius `sphere_radius` pressed to the curve's
+/// deepest depth. Throws std::invalid_argument for an empty curve or a non-positive radius or
+/// spacing.
+ContactResolution ResolutionOf(const std::vector<IndentationPoint>& curve, double sphere_radius,
+                               double spacing);
+
+/// The coarsest spacing that resolves the contact: kNodesAcrossContactRadius spacings across
+/// the largest contact radius of the curve (same preconditions as ResolutionOf).
+ContactResolution ResolvingResolution(const std::vector<IndentationPoint>& curve,
+                                      double sphere_radius);
+
 /// The simulated profile of one sample made of a material (E in Pa, ν).
 using MaterialSimulator =
     std::function<std::vector<IndentationSample>(double youngs, double poisson)>;
@@ -75,7 +105,8 @@ struct MaterialFitResult {
   double residual = 0.0;         ///< the first curve's, as IndentationFitResult::residual
   double second_residual = 0.0;  ///< the second curve's at (youngs, poisson)
   int simulations = 0;           ///< of both samples
-  bool converged = false;        ///< the bracket narrowed to the tolerance
+  /// The bracket narrowed to the tolerance, or a trial inside it had |g| within the E fit's.
+  bool converged = false;
   /// Every trial: ν, the E fitted at it and g = log s2 (the second curve's least-squares scale).
   std::vector<std::array<double, 3>> trials;
 };
