@@ -11,6 +11,7 @@
 #include <type_traits>
 
 #include "mechanics/single_precision_kernels.h"
+#include "mechanics/spring_arithmetic.h"
 
 namespace msm_sim::core::internal {
 
@@ -168,14 +169,14 @@ inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
     const Lanes length = Sqrt(rx * rx + ry * ry + rz * rz);
     const Lanes inverse_length = 1.0f / (length + 1e-30f);  // as InverseLength
     const Lanes stiffness = Load(slots);
-    Lanes t = stiffness * (length - Load(slots + kLanes));
+    Lanes t = ElasticTension(stiffness, length, Load(slots + kLanes));
     if constexpr (Dispersed) {
-      t += Load(slots + 2 * kLanes) * ga + Load(slots + 3 * kLanes) * Load(m.g + b);
+      t += DispersedTension(Load(slots + 2 * kLanes), ga, Load(slots + 3 * kLanes), Load(m.g + b));
     }
     if constexpr (Damped) {
       const Lanes rate =
-          (Load(m.vx + b) - vxa) * rx + (Load(m.vy + b) - vya) * ry + (Load(m.vz + b) - vza) * rz;
-      t += beta * stiffness * rate * inverse_length;
+          StretchRate(Load(m.vx + b) - vxa, Load(m.vy + b) - vya, Load(m.vz + b) - vza, rx, ry, rz);
+      t += DamperTension(beta * stiffness, rate, inverse_length);
     }
     const Lanes scale = t * inverse_length;
     const Lanes sx = scale * rx, sy = scale * ry, sz = scale * rz;

@@ -10,6 +10,12 @@
 
 #include "mechanics/simd_clones.h"
 #include "mechanics/single_block_loops.h"
+#include "mechanics/spring_arithmetic.h"
+
+// The block loops' 8-float lanes pass only through inlined helpers (single_block_loops.h,
+// spring_arithmetic.h), so GCC's note on their ABI applies nowhere in this file; it is emitted
+// where the helpers' templates are instantiated, at the end of the file.
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace msm_sim::core {
 
@@ -40,14 +46,15 @@ inline __attribute__((always_inline)) void ApplyToEnds(int i, float sx, float sy
 
 // The damper's tension beta k (v_b - v_a) . r / L of slot i, offset d, velocities from the
 // run's a0.
-inline __attribute__((always_inline)) float DamperTension(const float* __restrict vx,
-                                                          const float* __restrict vy,
-                                                          const float* __restrict vz, int i, int d,
-                                                          float rx, float ry, float rz,
-                                                          float beta_k, float inverse_length) {
+inline __attribute__((always_inline)) float RunDamperTension(const float* __restrict vx,
+                                                             const float* __restrict vy,
+                                                             const float* __restrict vz, int i,
+                                                             int d, float rx, float ry, float rz,
+                                                             float beta_k, float inverse_length) {
   // r as three scalars: an array passed by pointer is a memory object the loop cannot vectorise.
-  const float rate = (vx[i + d] - vx[i]) * rx + (vy[i + d] - vy[i]) * ry + (vz[i + d] - vz[i]) * rz;
-  return beta_k * rate * inverse_length;
+  const float rate =
+      internal::StretchRate(vx[i + d] - vx[i], vy[i + d] - vy[i], vz[i + d] - vz[i], rx, ry, rz);
+  return internal::DamperTension(beta_k, rate, inverse_length);
 }
 
 // A node array from a run's a0, or null for none (no dampers, no dispersion).
@@ -85,7 +92,7 @@ inline __attribute__((always_inline)) void InflowRun(
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float stretch = std::sqrt(rx * rx + ry * ry + rz * rz) - rest[i];
+    const float stretch = internal::SpringLength(rx, ry, rz) - rest[i];
     ja[i] += outflow_a[i] * stretch;
     jb[i] += outflow_b[i] * stretch;
   }
@@ -108,12 +115,13 @@ inline __attribute__((always_inline)) void ForceRun(
 #pragma omp simd
   for (int i = 0; i < n; ++i) {
     const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float length = std::sqrt(rx * rx + ry * ry + rz * rz);
+    const float length = internal::SpringLength(rx, ry, rz);
     const float inverse_length = InverseLength(length);
-    float t = k[i] * (length - rest[i]);
-    if constexpr (Dispersed) t += outflow_a[i] * g[i] + outflow_b[i] * g[i + d];
+    float t = internal::ElasticTension(k[i], length, rest[i]);
+    if constexpr (Dispersed)
+      t += internal::DispersedTension(outflow_a[i], g[i], outflow_b[i], g[i + d]);
     if constexpr (Damped)
-      t += DamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
+      t += RunDamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
     const float scale = t * inverse_length;
     ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
   }
