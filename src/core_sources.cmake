@@ -45,11 +45,15 @@ set(MSM_SIM_CORE_SOURCES
   # mechanics
   ${MSM_SIM_DIR}/src/mechanics/dof_constraints.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator.cpp
+  ${MSM_SIM_DIR}/src/mechanics/force_evaluator_reference.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_kernels.cpp
   ${MSM_SIM_DIR}/src/mechanics/single_precision_kernels.cpp
+  ${MSM_SIM_DIR}/src/mechanics/single_precision_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
   ${MSM_SIM_DIR}/src/mechanics/orientation_barrier.cpp
+  ${MSM_SIM_DIR}/src/mechanics/share_plan.cpp
+  ${MSM_SIM_DIR}/src/mechanics/single_pipeline.cpp
   ${MSM_SIM_DIR}/src/mechanics/spring_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/stable_time_step.cpp
   ${MSM_SIM_DIR}/src/mechanics/static_solver.cpp

@@ -1,5 +1,6 @@
 // ForceEvaluator's elastic energy and linearisation (the stiffness K = -d(forces)/d(positions)
-// and its diagonal). The force passes, the hot loop of every step, are in force_evaluator.cpp.
+// and its diagonal). The force passes, the hot loop of every step, are in force_evaluator.cpp
+// and the files it names.
 
 #include "msm_sim/mechanics/force_evaluator.h"
 
@@ -7,6 +8,7 @@
 #include <cstddef>
 
 #include "mechanics/force_kernels.h"
+#include "mechanics/share_plan.h"
 #include "mechanics/single_precision_kernels.h"
 
 namespace msm_sim::core {
@@ -134,7 +136,7 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
   // As the force loops: up to max_threads shares for 1,000 nodes or more. Each share takes a
   // contiguous part of the runs (about equal in springs) and sums into its own K dv and dJ,
   // added in share order: the sums depend on the thread count only.
-  const int shares = SingleShares();
+  const int shares = plan_->NodeShareCount();
   std::vector<int> first_run(shares + 1, static_cast<int>(runs.size()));
   for (int t = 0, r = 0, taken = 0; t < shares; ++t) {
     for (; r < static_cast<int>(runs.size()) && taken < count * t / shares; ++r) {
@@ -155,7 +157,7 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
                                          data + 5 * count, data + 6 * count,
                                          data + 7 * count, data + 8 * count};
   const bool disperse = model_->dispersion_fraction() != 0.0;
-  RunShares(shares, [&](int t) {
+  internal::SharePlan::Run(shares, [&](int t) {
     float* product = part(t);
     std::fill(product, product + 4 * n, 0.0f);
     SingleStiffnessRuns(springs, first_run[t], first_run[t + 1], dv, n, product,
@@ -170,7 +172,7 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
     for (Eigen::Index i = 0; i < n; ++i) {
       dg[i] = static_cast<float>(dg[i] * inverse_star_weight_[i]);  // dg = dJ / W
     }
-    RunShares(shares, [&](int t) {
+    internal::SharePlan::Run(shares, [&](int t) {
       SingleDispersedStiffnessRuns(springs, first_run[t], first_run[t + 1], dg, n, part(t));
     });
   }

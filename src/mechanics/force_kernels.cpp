@@ -1,15 +1,15 @@
-// The vectorised spring loops of ForceEvaluator. This file is compiled with -fno-math-errno
-// (CMakeLists.txt): std::sqrt may then become one SIMD instruction instead of a call that sets
-// errno, which is what lets the compiler vectorise the loops at all. Each run is taken in two
-// loops, one writing node a0 + i and one node a0 + offset + i, because a single loop's two
-// stores would overlap within a SIMD register whenever offset < the vector width.
+// The double run kernels of ForceEvaluator, a spring's arithmetic from spring_arithmetic.h.
+// Compiled with -fno-math-errno (CMakeLists.txt): std::sqrt may then become one SIMD instruction
+// instead of a call that sets errno, which lets the compiler vectorise the loops at all. Each run
+// is taken in two loops, one writing node a0 + i and one node a0 + offset + i, because a single
+// loop's two stores would overlap within a SIMD register whenever offset < the vector width.
 
 #include "mechanics/force_kernels.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "mechanics/simd_clones.h"
+#include "mechanics/spring_arithmetic.h"
 
 namespace msm_sim::core {
 
@@ -75,9 +75,9 @@ inline __attribute__((always_inline)) void RunTensions(const ScheduledSprings& s
       const double* __restrict vx = damping.velocities->x + run.a0;
       const double* __restrict vy = damping.velocities->y + run.a0;
       const double* __restrict vz = damping.velocities->z + run.a0;
-      const double rate =
-          (vx[i + d] - vx[i]) * r[0] + (vy[i + d] - vy[i]) * r[1] + (vz[i + d] - vz[i]) * r[2];
-      t += damping.beta * k[i] * rate * inverse_length;
+      const double rate = internal::StretchRate(vx[i + d] - vx[i], vy[i + d] - vy[i],
+                                                vz[i + d] - vz[i], r[0], r[1], r[2]);
+      t += internal::DamperTension(damping.beta * k[i], rate, inverse_length);
     }
     total[run.first + i] = t;
     const double scale = t * inverse_length;
@@ -133,9 +133,9 @@ inline __attribute__((always_inline)) void PlainRunsImpl(
     const double* __restrict k = springs.stiffness + run.first;
     const double* __restrict rest = springs.rest + run.first;
     const auto tension = [&](int i, const double r[3], double* inverse_length) {
-      const double length = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+      const double length = internal::SpringLength(r[0], r[1], r[2]);
       *inverse_length = 1.0 / length;
-      return k[i] * (length - rest[i]);
+      return internal::ElasticTension(k[i], length, rest[i]);
     };
     RunTensions<Damped>(springs, run, positions, damping, tension, total, &c);
     ApplyToEnds(run, c, forces);
@@ -186,14 +186,14 @@ inline __attribute__((always_inline)) void InflowRun(
     const double rx = px[i + offset] - px[i];
     const double ry = py[i + offset] - py[i];
     const double rz = pz[i + offset] - pz[i];
-    const double length = std::sqrt(rx * rx + ry * ry + rz * rz);
+    const double length = internal::SpringLength(rx, ry, rz);
     const double inverse_length = 1.0 / length;
-    elastic[i] = k[i] * (length - rest[i]);
+    elastic[i] = internal::ElasticTension(k[i], length, rest[i]);
     double total = elastic[i];
     if constexpr (Damped) {
-      const double rate = (vx[i + offset] - vx[i]) * rx + (vy[i + offset] - vy[i]) * ry +
-                          (vz[i + offset] - vz[i]) * rz;
-      total += beta * k[i] * rate * inverse_length;
+      const double rate = internal::StretchRate(vx[i + offset] - vx[i], vy[i + offset] - vy[i],
+                                                vz[i + offset] - vz[i], rx, ry, rz);
+      total += internal::DamperTension(beta * k[i], rate, inverse_length);
     }
     t[i] = total;
     inverse[i] = inverse_length;
@@ -272,7 +272,7 @@ void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, 
     const int d = run.offset, n = run.count;
     for (int i = 0; i < n; ++i) {
       const double rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-      const double inverse_length = 1.0 / std::sqrt(rx * rx + ry * ry + rz * rz);
+      const double inverse_length = 1.0 / internal::SpringLength(rx, ry, rz);
       ux[i] = rx * inverse_length;
       uy[i] = ry * inverse_length;
       uz[i] = rz * inverse_length;

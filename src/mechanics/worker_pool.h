@@ -16,18 +16,14 @@ namespace msm_sim::core {
 /// thread runs it.
 ///
 /// Shares are claimed, not assigned: the caller runs share 0, then claims whatever share no
-/// worker has started. A worker that the scheduler keeps off its core (another process busy on
-/// it) therefore delays nothing but the share it already holds: with every share assigned, the
-/// caller waited for it on each of a substep's six hand-overs, and two threads ran a 4,000-node
-/// step at 0.4-0.8 of one thread's speed.
+/// worker has started, so a worker that the scheduler keeps off its core (another process busy
+/// on it) delays nothing but the share it already holds.
 ///
-/// Why not OpenMP's fork-join: its barrier spins before it sleeps, and with two threads on a
-/// machine whose other core is busy (a robot stack, a build) the spinning thread held the only
-/// free core while the thread it waited for could not run: an 8,125-node step ran at 0.30 of
-/// one thread's speed (0.22 with a pause-based spin here). A waiting thread here yields instead,
-/// so the scheduler runs the awaited thread on that core at once (0.77), and after
-/// kSpinIterations yields (about a millisecond) sleeps on a condition variable. Idle, yielding
-/// costs nothing: the yield returns at once.
+/// Why not OpenMP's fork-join: its barrier spins before it sleeps, and on a machine whose other
+/// core is busy (a robot stack, a build) the spinning thread holds the only free core while the
+/// thread it waits for cannot run. A waiting thread here yields instead, so the scheduler runs
+/// the awaited thread on that core at once, and after kSpinIterations yields sleeps on a
+/// condition variable (docs/design/threads-default.md has the measurements).
 class WorkerPool {
  public:
   /// Starts `workers` threads (0 is allowed: Run then runs share 0 only, on the caller).

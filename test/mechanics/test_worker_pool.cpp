@@ -88,7 +88,7 @@ TEST(WorkerPool, RunsMoreSharesThanThreads) {
 }
 
 // While one caller runs a task, the pool's busy() mutex is held, so a second caller (another
-// World's thread) sees it taken and runs its shares itself (ForceEvaluator::ForShares).
+// World's thread) sees it taken and runs its shares itself (internal::SharePlan).
 TEST(WorkerPool, BusyWhileAnotherCallerRuns) {
   WorkerPool pool(1);
   std::atomic<bool> started{false};

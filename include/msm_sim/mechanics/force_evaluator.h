@@ -2,6 +2,7 @@
 
 #include <functional>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,7 +15,33 @@ namespace msm_sim::core {
 
 struct ScheduledSpringData;
 struct SinglePrecisionSprings;
-struct SingleShare;
+
+namespace internal {
+class SharePlan;
+class SinglePasses;
+
+/// An owned member of a type private to src/mechanics whose copies copy the pointee, so that
+/// ForceEvaluator stays copyable (its special members are defined where T is complete).
+template <typename T>
+class Copied {
+ public:
+  explicit Copied(std::unique_ptr<T> value = nullptr) : value_(std::move(value)) {}
+  Copied(const Copied& other) : value_(other ? std::make_unique<T>(*other) : nullptr) {}
+  Copied(Copied&&) noexcept = default;
+  Copied& operator=(const Copied& other) {
+    if (this != &other) value_ = other ? std::make_unique<T>(*other) : nullptr;
+    return *this;
+  }
+  Copied& operator=(Copied&&) noexcept = default;
+  ~Copied() = default;
+  explicit operator bool() const { return value_ != nullptr; }
+  T& operator*() const { return *value_; }
+  T* operator->() const { return value_.get(); }
+
+ private:
+  std::unique_ptr<T> value_;
+};
+}  // namespace internal
 
 /// How a force evaluation computes the eMSM momentum dispersion (docs/physics.md §3).
 enum class DispersionPasses {
@@ -77,14 +104,16 @@ enum class GeometricStiffness {
 class ForceEvaluator {
  public:
   /// `max_threads` (>= 1, at most 4,095): the threads the spring passes may use, on the
-  /// process's worker pool.
-  /// The double loops use up to that many (no more than the hardware threads) for models with
-  /// at least kParallelSprings springs; the single-precision loops split models with at least
-  /// kParallelSingleNodes nodes into exactly max_threads node shares, so that their sums depend
-  /// on the thread count only, not on the machine. Smaller models use one. One by default: a
-  /// robot's simulator shares the cores.
+  /// process's worker pool (internal::SharePlan: the double loops of models of 50,000 springs
+  /// or more, the single loops of 1,000 nodes or more in exactly max_threads node shares, so
+  /// that the sums depend on the thread count only). One by default: a robot shares the cores.
   explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
                           SpringKernels kernels = SpringKernels::kAuto, int max_threads = 1);
+  ForceEvaluator(const ForceEvaluator& other);
+  ForceEvaluator(ForceEvaluator&& other) noexcept;
+  ForceEvaluator& operator=(const ForceEvaluator& other);
+  ForceEvaluator& operator=(ForceEvaluator&& other) noexcept;
+  ~ForceEvaluator();
 
   /// Adds `barrier`'s forces to every later evaluation (and its energy and stiffness to
   /// ElasticEnergy, Linearize, ApplyStiffness and StiffnessDiagonal); null removes it. They are
@@ -118,7 +147,7 @@ class ForceEvaluator {
   /// [begin, end) before SetForces reads them; `after(share, begin, end)` runs once their forces
   /// are set and may read or change those forces and velocities. Neither may touch other nodes.
   /// Shares are numbered 0 .. NumNodeShares() - 1 in node order, as ForEachNodeShare numbers
-  /// them. Where the loops have no shares (double precision, models below kParallelSingleNodes,
+  /// them. Where the loops have no shares (double precision, models below 1,000 nodes,
   /// one thread) they are called once, with (0, 0, N), before and after the evaluation.
   ///
   /// `after_unstored(share, begin, end, end_forces, stride)`, optional, replaces storing the
@@ -212,50 +241,27 @@ class ForceEvaluator {
   };
 
  private:
-  // Models with at least this many springs evaluate them on up to max_threads_ threads; small
-  // models would lose more to waking the threads than they gain.
-  static constexpr int kParallelSprings = 50'000;
-  /// Runs body(begin, end, scatter_target) over the springs, in fixed per-thread shares for
-  /// large models, each thread scattering into its own copy of `target` (summed afterwards).
-  template <typename Body>
-  void ForSprings(double* target, Eigen::Index target_size, Body&& body);
-  /// The same over `count` work items (springs or runs); threads as for the model's springs.
-  template <typename Body>
-  void ForShares(int count, double* target, Eigen::Index target_size, Body&& body);
-  /// The vectorised evaluation (plain or two-pass eMSM) over the spring schedule.
-  void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
-                      Eigen::Matrix3Xd* forces);
-  /// The same in single precision (SpringPrecision::kSingle).
-  void AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
-                        Eigen::Matrix3Xd* forces);
-  /// RoundNodes from raw node arrays (velocities null: no dampers).
-  void RoundNodeRange(const double* positions, const double* velocities, int begin, int end,
-                      const double origin[3]);
-  // Models with at least this many nodes split the single-precision loops into max_threads_
-  // node shares (SingleShare), which write disjoint memory: nothing to zero or add per thread
-  // but the short overflows past each share's last node.
-  static constexpr int kParallelSingleNodes = 1'000;
-  /// The number of node shares of the single-precision loops.
-  int SingleShares() const;
-  /// Floats from one x, y or z block of the single-precision node arrays to the next: the nodes
-  /// the loops reach (SinglePrecisionSprings::PaddedNodes) rounded up to a cache line, so that
-  /// every block starts one.
-  Eigen::Index SingleStride() const;
-  /// Whether an evaluation now takes the single-precision loops.
-  bool UsesSingleLoops() const;
-  /// Share t of `count` node shares of the single-precision loops.
-  SingleShare NodeShare(int t, int count) const;
-  /// Runs task(t) for the shares t = 0 .. shares - 1, on the worker pool when there are several.
-  static void RunShares(int shares, const std::function<void(int)>& task);
-  /// WorkerPool::RunInTwoParts on the shared pool (RunShares' fallback: all first parts, then
-  /// all second parts, on the caller).
-  static void RunSharesInTwoParts(int shares, const std::function<void(int)>& first,
-                                  const std::function<void(int)>& second,
-                                  const std::function<int(int)>& last_read);
-
-  template <bool Damped>
+  /// Takes the loops that suit the model and the precision (the run kernels, else the
+  /// per-spring loops) and keeps the one-pass history.
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                   Eigen::Matrix3Xd* forces);
+  /// The double run kernels (plain or two-pass eMSM) over the spring schedule.
+  void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                      Eigen::Matrix3Xd* forces);
+  /// The single-precision loops (SpringPrecision::kSingle): internal::SinglePasses on the share
+  /// plan's node shares.
+  void AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                        Eigen::Matrix3Xd* forces);
+  /// Whether an evaluation now takes the single-precision loops.
+  bool UsesSingleLoops() const;
+
+  /// The per-spring reference loops (any model; force_evaluator_reference.cpp): plain, two-pass
+  /// or lagged one-pass eMSM (docs/physics.md §3), then the Baudet elements.
+  void AccumulatePerSpring(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                           Eigen::Matrix3Xd* forces);
+  template <bool Damped>
+  void AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions, const Damping& damping,
+                               Eigen::Matrix3Xd* forces);
   template <SpringLaw Law, bool Damped>
   void PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
                  Eigen::Matrix3Xd* forces);
@@ -287,7 +293,9 @@ class ForceEvaluator {
 
   const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
   DispersionPasses passes_;
-  int max_threads_ = 1;
+  // The share plan (threads, shares) and the single loops' stage pipeline with its node arrays.
+  internal::Copied<internal::SharePlan> plan_;
+  internal::Copied<internal::SinglePasses> single_passes_;
   // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 = v k L0 at each end,
   // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
   Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
@@ -311,34 +319,13 @@ class ForceEvaluator {
   bool has_previous_dispersion_ = false;
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
   Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;     // dt / dL per spring (linearisation)
-  std::vector<Eigen::VectorXd> scratch_;  // per extra thread: its scatter buffer
+  Eigen::VectorXd tangent_stiffness_;  // dt / dL per spring (linearisation)
   SpringPrecision precision_ = SpringPrecision::kDouble;
-  bool totals_recorded_ = true;    // false after a single-precision evaluation
-  bool overwrite_forces_ = false;  // during SetForces
-  // What the last single-precision evaluation took ahead of the next (NodeStages::
-  // rounds_ahead), for one with NodeStages::rounded: the eMSM first pass (J's accumulators), and
-  // on two shares or more the last share's part of the passes after it from node early_from on
-  // (-1: none), with dampers of that beta (0: none).
-  struct TakenAhead {
-    bool taken = false;
-    int early_from = -1;
-    float beta = 0.0f;
-  };
-  TakenAhead ahead_;
-  // The single loops' share boundaries (CutNodeShares; empty: equal shares).
-  std::vector<int> share_bounds_;
+  bool totals_recorded_ = true;         // false after a single-precision evaluation
+  bool overwrite_forces_ = false;       // during SetForces
   const NodeStages* stages_ = nullptr;  // during SetForces with stages, on the single loops
   // Set while precision_ is kSingle and the model suits the run kernels.
   std::shared_ptr<const SinglePrecisionSprings> single_;
-  // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each, at
-  // SingleStride() floats apart; the accumulators of the a and b ends and g = J / W the same;
-  // from the start of a cache line (SinglePrecisionSprings::kAlignment). Past N: zeros (the
-  // blocks' phantoms reach there).
-  CacheLineFloats single_nodes_, single_accumulators_, single_dispersion_;
-  // Per share: its overflow of the b ends' forces (x, y, z) and of J_b, max_offset each, at
-  // max_offset rounded up to a cache line apart.
-  CacheLineFloats single_overflows_;
   // The stiffness product in single precision, per spring in schedule order: k, inflow a and b,
   // outflow a and b, then the linearisation's ux, uy, uz and T / L (RoundLinearization); and
   // its scratch: dv and K dv as x, y, z blocks of N, then dJ (N).
