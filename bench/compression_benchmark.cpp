@@ -3,10 +3,10 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_threads.h"
-#include "msm_sim/build/baudet_lattice_builder.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {

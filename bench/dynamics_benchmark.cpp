@@ -5,9 +5,9 @@
 #include <benchmark/benchmark.h>
 
 #include "bench_threads.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/contact_point_average.h"
 #include "msm_sim/dynamics/world.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

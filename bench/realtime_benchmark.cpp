@@ -17,8 +17,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/experiments/realtime_experiment.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

@@ -15,18 +15,18 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/model/model_statistics.cpp
   ${MSM_SIM_DIR}/src/model/model_transform.cpp
   ${MSM_SIM_DIR}/src/model/node_selection.cpp
-  # build
-  ${MSM_SIM_DIR}/src/build/baudet_lattice_builder.cpp
-  ${MSM_SIM_DIR}/src/build/body_recipe.cpp
-  ${MSM_SIM_DIR}/src/build/body_shape.cpp
-  ${MSM_SIM_DIR}/src/build/cubic_lattice_builder.cpp
-  ${MSM_SIM_DIR}/src/build/free_face_bending.cpp
-  ${MSM_SIM_DIR}/src/build/lattice_geometry.cpp
-  ${MSM_SIM_DIR}/src/build/mesh_lattice_builder.cpp
-  ${MSM_SIM_DIR}/src/build/node_centred_lattice.cpp
-  ${MSM_SIM_DIR}/src/build/outer_layer_dispersion.cpp
-  ${MSM_SIM_DIR}/src/build/random_lattice_builder.cpp
-  ${MSM_SIM_DIR}/src/build/random_self_calibration.cpp
+  # lattice
+  ${MSM_SIM_DIR}/src/lattice/baudet_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/lattice/body_recipe.cpp
+  ${MSM_SIM_DIR}/src/lattice/body_shape.cpp
+  ${MSM_SIM_DIR}/src/lattice/cubic_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/lattice/free_face_bending.cpp
+  ${MSM_SIM_DIR}/src/lattice/lattice_geometry.cpp
+  ${MSM_SIM_DIR}/src/lattice/mesh_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/lattice/node_centred_lattice.cpp
+  ${MSM_SIM_DIR}/src/lattice/outer_layer_dispersion.cpp
+  ${MSM_SIM_DIR}/src/lattice/random_lattice_builder.cpp
+  ${MSM_SIM_DIR}/src/lattice/random_self_calibration.cpp
   # geometry
   ${MSM_SIM_DIR}/src/geometry/box_clipping.cpp
   ${MSM_SIM_DIR}/src/geometry/delaunay.cpp

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/dof_constraints.h"
 
 namespace msm_sim::core {

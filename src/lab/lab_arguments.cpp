@@ -9,7 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "lab_command_line.h"
-#include "msm_sim/build/body_recipe.h"
+#include "msm_sim/lattice/body_recipe.h"
 
 namespace msm_sim::lab {
 namespace {

@@ -7,9 +7,9 @@
 #include <Eigen/Core>
 
 #include "lab_arguments.h"
-#include "msm_sim/build/body_recipe.h"
 #include "msm_sim/dynamics/integrator.h"
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/lattice/body_recipe.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model.h"
 

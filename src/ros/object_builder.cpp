@@ -5,11 +5,11 @@
 #include <stdexcept>
 #include <utility>
 
-#include "msm_sim/build/body_recipe.h"
-#include "msm_sim/build/body_shape.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/geometry/mesh_import.h"
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/lattice/body_recipe.h"
+#include "msm_sim/lattice/body_shape.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/model/model_transform.h"
 #include "msm_sim/model/node_selection.h"
 

@@ -13,9 +13,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/body_recipe.h"
-#include "msm_sim/build/body_shape.h"
 #include "msm_sim/dynamics/world.h"
+#include "msm_sim/lattice/body_recipe.h"
+#include "msm_sim/lattice/body_shape.h"
 #include "msm_sim/material/spring_law.h"
 
 namespace msm_sim::ros_interface {

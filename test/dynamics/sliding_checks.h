@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/experiments/slide_experiment.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core {
 

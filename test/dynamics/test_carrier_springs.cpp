@@ -21,8 +21,8 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/orientation_barrier.h"
 #include "msm_sim/model/node_selection.h"
 

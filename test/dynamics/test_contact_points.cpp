@@ -8,11 +8,11 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/border_nodes.h"
 #include "msm_sim/dynamics/contact_point_average.h"
 #include "msm_sim/dynamics/contact_wrench_average.h"
 #include "msm_sim/dynamics/world.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

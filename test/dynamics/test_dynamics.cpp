@@ -12,12 +12,12 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/experiments/slide_experiment.h"
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 #include "msm_sim/model/model_builder.h"
 #include "sliding_checks.h"
 

@@ -9,10 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/experiments/indentation_experiment.h"
 #include "msm_sim/experiments/slide_experiment.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/dof_constraints.h"
 #include "msm_sim/mechanics/static_solver.h"
 #include "msm_sim/model/model_builder.h"

@@ -9,9 +9,9 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/body_shape.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/dynamics/world.h"
+#include "msm_sim/lattice/body_shape.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/model/model_transform.h"
 #include "msm_sim/model/node_selection.h"
 

@@ -9,13 +9,13 @@
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
 #include "msm_sim/dynamics/border_nodes.h"
 #include "msm_sim/dynamics/collider.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/mechanics/stable_time_step.h"
 #include "msm_sim/model/model_builder.h"

@@ -24,9 +24,9 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/experiments/calculix_reference.h"
 #include "msm_sim/experiments/cantilever_experiment.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_file.h"
 

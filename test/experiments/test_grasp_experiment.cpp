@@ -10,10 +10,10 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/body_recipe.h"
 #include "msm_sim/experiments/grasp_experiment.h"
 #include "msm_sim/geometry/mesh_import.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/lattice/body_recipe.h"
 
 namespace msm_sim::core {
 namespace {

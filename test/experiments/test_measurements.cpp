@@ -4,11 +4,11 @@
 #include <Eigen/Geometry>
 
 #include "geometry/tetrahedralization.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/experiments/hardy_stress.h"
 #include "msm_sim/experiments/momentum_flow.h"
 #include "msm_sim/experiments/strain_probe.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "geometry/mesh_files.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/model/model_file.h"
 
 int main(int argc, char** argv) {

@@ -20,8 +20,8 @@
 #include "forked_run.h"
 #include "mesh_files.h"
 #include "model/binary_file.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
 #include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/model/model_file.h"
 
 namespace msm_sim::core {

@@ -7,10 +7,10 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/mesh_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/surface_skin.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

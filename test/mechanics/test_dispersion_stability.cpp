@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {

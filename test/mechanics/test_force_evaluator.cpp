@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "expect_stiffness.h"
-#include "msm_sim/build/baudet_lattice_builder.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_builder.h"

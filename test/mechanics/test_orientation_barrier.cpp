@@ -11,8 +11,8 @@
 #include <Eigen/Geometry>
 
 #include "expect_stiffness.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/mechanics/orientation_barrier.h"
 #include "perturbed_positions.h"

@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "mechanics/spring_schedule.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/model/model_builder.h"
 
 namespace msm_sim::core {

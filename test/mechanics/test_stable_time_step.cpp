@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Eigenvalues>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/mechanics/stable_time_step.h"
 

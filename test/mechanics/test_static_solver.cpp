@@ -1,6 +1,6 @@
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/mechanics/static_solver.h"
 #include "msm_sim/model/model_builder.h"

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/model/body_frame.h"
 #include "msm_sim/model/state.h"
 

@@ -20,13 +20,13 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/baudet_lattice_builder.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/geometry/vtk_export.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_file.h"
 #include "msm_sim/model/state.h"

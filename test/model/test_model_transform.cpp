@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_builder.h"
 #include "msm_sim/model/model_transform.h"

@@ -9,7 +9,7 @@
 #include <ros/ros.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "node_test_support.h"
 #include "object_builder.h"
 #include "simulation_config.h"

@@ -19,10 +19,10 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/body_recipe.h"
-#include "msm_sim/build/body_shape.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/lattice/body_recipe.h"
+#include "msm_sim/lattice/body_shape.h"
 #include "msm_sim/model/model_transform.h"
 #include "msm_sim/model/node_selection.h"
 

@@ -1,7 +1,7 @@
-// The free faces' bending correction of node-centred cubic boxes (src/build/free_face_bending.h,
+// The free faces' bending correction of node-centred cubic boxes (src/lattice/free_face_bending.h,
 // docs/physics.md §2.1 "Free faces in bending"). The cantilever against CalculiX is in
 // test/experiments/test_cantilever_faces.cpp.
-#include "build/free_face_bending.h"
+#include "lattice/free_face_bending.h"
 
 #include <algorithm>
 #include <array>
@@ -10,7 +10,7 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

@@ -8,10 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "compression_helpers.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

@@ -7,8 +7,8 @@
 
 #include <Eigen/Core>
 
-#include "build/lattice_geometry.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "lattice/lattice_geometry.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/material/material.h"
 #include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"

@@ -1,4 +1,4 @@
-#include "build/free_face_bending.h"
+#include "lattice/free_face_bending.h"
 
 namespace msm_sim::core {
 

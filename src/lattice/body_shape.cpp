@@ -1,4 +1,4 @@
-#include "msm_sim/build/body_shape.h"
+#include "msm_sim/lattice/body_shape.h"
 
 #include "msm_sim/geometry/mesh_import.h"
 #include "msm_sim/geometry/mesh_primitives.h"

@@ -1,9 +1,9 @@
-#include "msm_sim/build/baudet_lattice_builder.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
 
 #include <array>
 #include <vector>
 
-#include "build/lattice_geometry.h"
+#include "lattice/lattice_geometry.h"
 #include "msm_sim/model/model_builder.h"
 
 namespace msm_sim::core {

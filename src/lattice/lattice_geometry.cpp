@@ -1,4 +1,4 @@
-#include "build/lattice_geometry.h"
+#include "lattice/lattice_geometry.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "msm_sim/build/body_recipe.h"
+#include "msm_sim/lattice/body_recipe.h"
 
 #include <array>
 #include <cmath>
@@ -9,9 +9,9 @@
 
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/baudet_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 #include "msm_sim/model/model_transform.h"
 
 namespace msm_sim::core {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/model/model_statistics.h"
 
 namespace msm_sim::core {

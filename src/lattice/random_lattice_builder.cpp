@@ -1,4 +1,4 @@
-#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 
 #include <Eigen/Dense>
 
-#include "build/lattice_geometry.h"
 #include "geometry/spatial_hash_grid.h"
+#include "lattice/lattice_geometry.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 

@@ -1,4 +1,4 @@
-#include "msm_sim/build/mesh_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,10 +7,10 @@
 
 #include <Eigen/Geometry>
 
-#include "build/lattice_geometry.h"
-#include "build/node_centred_lattice.h"
-#include "build/outer_layer_dispersion.h"
 #include "geometry/box_clipping.h"
+#include "lattice/lattice_geometry.h"
+#include "lattice/node_centred_lattice.h"
+#include "lattice/outer_layer_dispersion.h"
 
 namespace msm_sim::core {
 namespace {

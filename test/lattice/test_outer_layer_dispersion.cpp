@@ -1,10 +1,10 @@
-// The softer outer layer of the eMSM dispersion (src/build/outer_layer_dispersion.h,
+// The softer outer layer of the eMSM dispersion (src/lattice/outer_layer_dispersion.h,
 // CubicLatticeOptions::surface_dispersion, docs/physics.md §7 "A softer outer layer"). Its
 // effect on the stable step is in test/mechanics/test_stable_time_step.cpp, on compression in
-// test/build/test_calibration.cpp, on a resolved contact in
+// test/lattice/test_calibration.cpp, on a resolved contact in
 // test/experiments/test_hertz_contact.cpp, on a grip in test_grip_experiment.cpp and on bending
 // against CalculiX in test_cantilever_faces.cpp.
-#include "build/outer_layer_dispersion.h"
+#include "lattice/outer_layer_dispersion.h"
 
 #include <algorithm>
 #include <cmath>
@@ -14,9 +14,9 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

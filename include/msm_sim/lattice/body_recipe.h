@@ -7,9 +7,9 @@
 
 #include <Eigen/Core>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/material/material.h"
 #include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"

@@ -1,4 +1,4 @@
-#include "build/node_centred_lattice.h"
+#include "lattice/node_centred_lattice.h"
 
 #include <cmath>
 #include <map>
@@ -7,8 +7,8 @@
 #include <tuple>
 #include <vector>
 
-#include "build/free_face_bending.h"
-#include "build/outer_layer_dispersion.h"
+#include "lattice/free_face_bending.h"
+#include "lattice/outer_layer_dispersion.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 

@@ -8,8 +8,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/material/extended_msm.h"
 
 namespace msm_sim::core {

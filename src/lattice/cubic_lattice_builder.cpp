@@ -1,4 +1,4 @@
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 #include <array>
 #include <cmath>
@@ -8,9 +8,9 @@
 
 #include <Eigen/Geometry>
 
-#include "build/lattice_geometry.h"
-#include "build/node_centred_lattice.h"
-#include "build/outer_layer_dispersion.h"
+#include "lattice/lattice_geometry.h"
+#include "lattice/node_centred_lattice.h"
+#include "lattice/outer_layer_dispersion.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 

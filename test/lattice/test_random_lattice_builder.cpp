@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "msm_sim/build/random_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/model/model_statistics.h"
 
 namespace msm_sim::core {

@@ -1,4 +1,4 @@
-#include "build/outer_layer_dispersion.h"
+#include "lattice/outer_layer_dispersion.h"
 
 #include <algorithm>
 #include <cmath>

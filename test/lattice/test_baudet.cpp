@@ -4,8 +4,8 @@
 #include <gtest/gtest.h>
 
 #include "compression_helpers.h"
-#include "msm_sim/build/baudet_lattice_builder.h"
 #include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
 
 namespace msm_sim::core {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "msm_sim/build/cubic_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core::lattice {
 

@@ -10,13 +10,13 @@
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
-#include "msm_sim/build/baudet_lattice_builder.h"
-#include "msm_sim/build/body_recipe.h"
-#include "msm_sim/build/body_shape.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/mesh_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
+#include "msm_sim/lattice/body_recipe.h"
+#include "msm_sim/lattice/body_shape.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/model/model_transform.h"
 
 namespace msm_sim::core {

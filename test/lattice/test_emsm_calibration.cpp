@@ -5,9 +5,9 @@
 #include <gtest/gtest.h>
 
 #include "compression_helpers.h"
-#include "msm_sim/build/cubic_lattice_builder.h"
-#include "msm_sim/build/random_lattice_builder.h"
 #include "msm_sim/experiments/compression_experiment.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/model/model_statistics.h"
 
 namespace msm_sim::core {
