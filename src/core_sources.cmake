@@ -51,12 +51,14 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/single_precision_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
+  ${MSM_SIM_DIR}/src/mechanics/momentum_flow.cpp
   ${MSM_SIM_DIR}/src/mechanics/orientation_barrier.cpp
   ${MSM_SIM_DIR}/src/mechanics/share_plan.cpp
   ${MSM_SIM_DIR}/src/mechanics/single_pipeline.cpp
   ${MSM_SIM_DIR}/src/mechanics/spring_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/stable_time_step.cpp
   ${MSM_SIM_DIR}/src/mechanics/static_solver.cpp
+  ${MSM_SIM_DIR}/src/mechanics/uniaxial_compression.cpp
   ${MSM_SIM_DIR}/src/mechanics/worker_pool.cpp
   # dynamics
   ${MSM_SIM_DIR}/src/dynamics/border_nodes.cpp
@@ -80,7 +82,6 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/experiments/indentation_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/indentation_fit.cpp
   ${MSM_SIM_DIR}/src/experiments/indenter.cpp
-  ${MSM_SIM_DIR}/src/experiments/momentum_flow.cpp
   ${MSM_SIM_DIR}/src/experiments/realtime_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/slide_experiment.cpp
   ${MSM_SIM_DIR}/src/experiments/strain_probe.cpp

@@ -8,9 +8,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/material/extended_msm.h"
+#include "msm_sim/mechanics/uniaxial_compression.h"
 
 namespace msm_sim::core {
 namespace {
@@ -21,7 +21,7 @@ namespace {
 constexpr double kCalibrationStrain = 1e-3;
 // Measured nu this close to the target ends the secant iteration.
 constexpr double kPoissonTolerance = 0.002;
-// Compression experiments at most: the first, then secant steps.
+// Compression measurements at most: the first, then secant steps.
 constexpr int kMaxMeasurements = 3;
 // Largest change of log(1 + Q) per secant step.
 const double kMaxLogStep = std::log(2.0);
@@ -39,10 +39,10 @@ Reading Measure(const Material& material, const RandomLatticeOptions& block, dou
   RandomLatticeOptions options = block;
   options.calibration = RandomSelfCalibration{1.0, q};
   const Model model = BuildRandomLattice(material, options);
-  CompressionExperimentOptions experiment;
-  experiment.body_size = options.size;
-  experiment.strain = kCalibrationStrain;
-  const CompressionExperimentResult result = RunCompressionExperiment(model, experiment);
+  UniaxialCompressionOptions compression;
+  compression.body_size = options.size;
+  compression.strain = kCalibrationStrain;
+  const UniaxialCompression result = MeasureUniaxialCompression(model, compression);
   if (!result.solver.converged) {
     throw std::runtime_error(
         "random lattice self-calibration: the representative block's "
@@ -51,9 +51,9 @@ Reading Measure(const Material& material, const RandomLatticeOptions& block, dou
   }
   // nu of an isotropic solid lies in (-1, 1/2); a reading outside (noise) is clamped so that
   // Q(nu) stays finite.
-  const double nu = std::clamp(result.poisson_measured, -0.999, 0.4999);
-  return Reading{std::log1p(2.0 * q), std::log1p(DispersionRatio(nu)), result.youngs_measured,
-                 result.poisson_measured};
+  const double nu = std::clamp(result.poisson, -0.999, 0.4999);
+  return Reading{std::log1p(2.0 * q), std::log1p(DispersionRatio(nu)), result.youngs,
+                 result.poisson};
 }
 
 // The next x = log(1 + Q) to try: a secant step through the last two readings (the first step

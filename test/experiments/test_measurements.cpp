@@ -6,10 +6,11 @@
 #include "geometry/tetrahedralization.h"
 #include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/experiments/hardy_stress.h"
-#include "msm_sim/experiments/momentum_flow.h"
 #include "msm_sim/experiments/strain_probe.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/mechanics/momentum_flow.h"
+#include "msm_sim/mechanics/uniaxial_compression.h"
 
 namespace msm_sim::core {
 namespace {
@@ -119,6 +120,25 @@ TEST(CompressionTest, RejectsImpossibleSetUps) {
   EXPECT_THROW(RunCompressionExperiment(model, test), std::invalid_argument);
   test.strain = 0.01;  // end regions of 1.5 x sqrt(2) a on a 4-layer block leave nothing free
   EXPECT_THROW(RunCompressionExperiment(model, test), std::invalid_argument);
+}
+
+TEST(CompressionTest, ReadsWhatTheUniaxialCompressionMeasures) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
+  options.spacing = 0.125;
+  const Model model = BuildCubicLattice(kMaterial, options);
+  CompressionExperimentOptions test;
+  test.body_size = options.size;
+  const CompressionExperimentResult result = RunCompressionExperiment(model, test);
+  const UniaxialCompression compression = MeasureUniaxialCompression(model, test);
+  EXPECT_EQ(result.youngs_measured, compression.youngs);
+  EXPECT_EQ(result.poisson_measured, compression.poisson);
+  EXPECT_EQ(result.axial_force, compression.axial_force);
+  EXPECT_EQ(result.end_nodes, compression.end_nodes);
+  EXPECT_EQ(result.central_nodes, compression.central_nodes);
+  EXPECT_EQ(result.solver.newton_iterations, compression.solver.newton_iterations);
+  // The probes at the centre read the same block: E within a few per cent of the flow's.
+  EXPECT_NEAR(result.youngs_stress_corrected / result.youngs_measured, 1.0, 0.1);
 }
 
 }  // namespace

@@ -3,30 +3,15 @@
 #include <Eigen/Core>
 
 #include "msm_sim/mechanics/static_solver.h"
+#include "msm_sim/mechanics/uniaxial_compression.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
 
-/// The uniaxial compression experiment of docs/physics.md §6 / thesis 3.2.1 on a block [0, size]
-/// (below, x stands for the compressed axis and y, z for the other two).
-struct CompressionExperimentOptions {
-  Eigen::Vector3d body_size = Eigen::Vector3d::Ones();  ///< m; the block the model fills
-  int axis = 0;                                         ///< compressed axis: 0 (x), 1 (y) or 2 (z)
-  double strain = 0.01;  ///< imposed compressive strain along x, in (0, 0.5)
-  /// Nodes whose rest x is within this distance (m) of either x face are moved affinely along x
-  /// and left free in y and z (ends that slide laterally). <= 0: 1.5 times the longest rest
-  /// spring.
-  double end_region_width = 0.0;
-  /// Cross-section (m^2) the axial force is divided by; <= 0: the block's, Ly Lz. A body that
-  /// is not a block (a mesh) gives the area of its section through the middle plane.
-  double cross_section_area = 0.0;
-  /// The central region whose deformation gives nu: |x - xc| <= fraction Lx / 2 and the central
-  /// width fraction of the block in y and z (0.8 by default, as in the thesis).
-  double central_length_fraction = 0.5;
-  double central_width_fraction = 0.8;
-  /// Solver settings; a force_tolerance <= 0 means 1e-7 E ã^2 strain.
-  StaticSolverOptions solver{0.0};
-};
+/// The uniaxial compression experiment of docs/physics.md §6 / thesis 3.2.1 on a block [0, size]:
+/// the measurement MeasureUniaxialCompression makes (E from the momentum flow, nu from the
+/// central stretch), plus the stress-corrected values from point probes at the centre.
+using CompressionExperimentOptions = UniaxialCompressionOptions;
 
 struct CompressionExperimentResult {
   double youngs_measured = 0.0;           ///< Pa: (F / A) / imposed strain

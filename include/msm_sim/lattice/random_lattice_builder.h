@@ -59,11 +59,12 @@ struct RandomLatticeOptions {
 };
 
 /// Measures the self-calibration for `options` (its size, seed, self_calibrate and calibration
-/// are ignored): builds the representative block, runs the compression experiment at strain
-/// 1e-3, moves the dispersion ratio Q by secant steps until the measured nu is within 0.002 of
-/// the target (at most 2 steps, each changing 1 + Q by at most a factor 2), then sets
-/// stiffness_factor = E_target / E_measured. Deterministic. Throws as BuildRandomLattice, and
-/// std::runtime_error if a static solve does not converge.
+/// are ignored): builds the representative block, compresses it at strain 1e-3
+/// (MeasureUniaxialCompression, the compression experiment's measurement), moves the dispersion
+/// ratio Q by secant steps until the measured nu is within 0.002 of the target (at most 2 steps,
+/// each changing 1 + Q by at most a factor 2), then sets stiffness_factor = E_target / E_measured.
+/// Deterministic. Throws as BuildRandomLattice, and std::runtime_error if a static solve does not
+/// converge.
 RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
                                                    const RandomLatticeOptions& options);
 

@@ -1,4 +1,4 @@
-#include "msm_sim/experiments/momentum_flow.h"
+#include "msm_sim/mechanics/momentum_flow.h"
 
 namespace msm_sim::core {
 
