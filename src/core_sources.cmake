@@ -71,18 +71,4 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/dynamics/world_pair_contacts.cpp
   ${MSM_SIM_DIR}/src/dynamics/world_implicit.cpp
   ${MSM_SIM_DIR}/src/dynamics/world_step.cpp
-  # experiments
-  ${MSM_SIM_DIR}/src/experiments/calculix_reference.cpp
-  ${MSM_SIM_DIR}/src/experiments/cantilever_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/compression_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/grasp_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/grip_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/hardy_stress.cpp
-  ${MSM_SIM_DIR}/src/experiments/indentation_curve.cpp
-  ${MSM_SIM_DIR}/src/experiments/indentation_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/indentation_fit.cpp
-  ${MSM_SIM_DIR}/src/experiments/indenter.cpp
-  ${MSM_SIM_DIR}/src/experiments/realtime_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/slide_experiment.cpp
-  ${MSM_SIM_DIR}/src/experiments/strain_probe.cpp
 )
