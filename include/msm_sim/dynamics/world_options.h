@@ -3,7 +3,8 @@
 #include <Eigen/Core>
 
 #include "msm_sim/dynamics/integrator.h"
-#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/mechanics/dispersion_passes.h"
+#include "msm_sim/mechanics/spring_precision.h"
 
 namespace msm_sim::core {
 

@@ -4,7 +4,8 @@
 #include <vector>
 
 #include "msm_sim/dynamics/world.h"
-#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/mechanics/dispersion_passes.h"
+#include "msm_sim/mechanics/spring_precision.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {

@@ -8,7 +8,9 @@
 #include <Eigen/Core>
 
 #include "msm_sim/mechanics/cache_line_allocator.h"
+#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/mechanics/orientation_barrier.h"
+#include "msm_sim/mechanics/spring_precision.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -43,15 +45,6 @@ class Copied {
 };
 }  // namespace internal
 
-/// How a force evaluation computes the eMSM momentum dispersion (docs/physics.md §3).
-enum class DispersionPasses {
-  /// Exact: a second loop over the springs redistributes this evaluation's accumulators.
-  kTwoPass,
-  /// One loop: redistributes the accumulators of the previous evaluation (the first evaluation
-  /// is two-pass). About half the cost of the second pass, one evaluation of lag.
-  kOnePass,
-};
-
 /// Which loops evaluate the springs' forces.
 enum class SpringKernels {
   /// The vectorised run kernels where the model suits them (linear springs in rows, no Baudet
@@ -59,21 +52,6 @@ enum class SpringKernels {
   kAuto,
   /// Always the per-spring loops: the reference the run kernels are tested and timed against.
   kPerSpring,
-};
-
-/// The arithmetic of AccumulateForces' spring loops (docs/physics.md §9).
-enum class SpringPrecision {
-  kDouble,  ///< double throughout
-  /// Where the run kernels apply (linear springs in rows: cubic lattices), the spring loops run
-  /// in single precision: positions relative to node 0 and velocities rounded to float, tensions
-  /// and forces summed in float, then added to the double forces. Twice the springs per SIMD
-  /// register; positions are rounded to 6e-8 of the body's extent D, so a spring's strain to about
-  /// 6e-8 D / L. The stiffness products (ApplyStiffness, the implicit integrator's conjugate
-  /// gradient) also run in float, on the double linearisation rounded to float (a relative
-  /// error of about 1e-6 against the double product). Energy, Linearize and the stiffness
-  /// diagonal stay in double, and total_tensions is not recorded. Other models evaluate in
-  /// double.
-  kSingle,
 };
 
 /// Which geometric stiffness (T / L across each spring, T its total tension) Linearize keeps.
