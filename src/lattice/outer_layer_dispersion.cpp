@@ -37,21 +37,81 @@ void ValidateSurfaceDispersion(double keep) {
   }
 }
 
-void ShiftOuterLayerDispersion(const OuterLayerNeighbourhoods& layer, double keep,
-                               ModelBuilder* builder) {
-  const std::vector<double> star = StarWeights(*builder);
-  // The recipients numbered compactly: slot[node] is a recipient's number, -1 for other nodes.
-  std::vector<int> slot(builder->num_nodes(), -1);
+namespace {
+
+// The recipients numbered compactly: receiving lists them, and edge[e] is the number of the
+// recipient of the layer's neighbourhood entry e.
+struct NumberedRecipients {
   std::vector<NodeIndex> receiving;
-  std::vector<int> edge(layer.recipients.size());
+  std::vector<int> edge;
+};
+
+NumberedRecipients NumberRecipients(const OuterLayerNeighbourhoods& layer, int num_nodes) {
+  NumberedRecipients numbered;
+  std::vector<int> slot(num_nodes, -1);  // a recipient's number, -1 for other nodes
+  numbered.edge.resize(layer.recipients.size());
   for (std::size_t e = 0; e < layer.recipients.size(); ++e) {
     const NodeIndex j = layer.recipients[e];
     if (slot[j] < 0) {
-      slot[j] = static_cast<int>(receiving.size());
-      receiving.push_back(j);
+      slot[j] = static_cast<int>(numbered.receiving.size());
+      numbered.receiving.push_back(j);
     }
-    edge[e] = slot[j];
+    numbered.edge[e] = slot[j];
   }
+  return numbered;
+}
+
+// Iterative proportional fitting of the plan T_gr = a_g b_r over the neighbourhoods, so that
+// giver g gives give[g] and recipient r receives target[r]. A split that followed each giver's
+// neighbourhood alone piled the bulk of edges and corners onto the few nodes beneath them, which
+// then set the step.
+void FitPlan(const OuterLayerNeighbourhoods& layer, const std::vector<int>& edge,
+             const std::vector<double>& give, const std::vector<double>& target,
+             std::vector<double>* a, std::vector<double>* b) {
+  const int givers = static_cast<int>(give.size());
+  std::vector<double> column(target.size());
+  for (int sweep = 0; sweep < kMaxFittingSweeps; ++sweep) {
+    std::fill(column.begin(), column.end(), 0.0);
+    for (int g = 0; g < givers; ++g) {
+      if (give[g] == 0.0) continue;
+      for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) column[edge[e]] += (*a)[g];
+    }
+    double mismatch = 0.0;  // of the recipients' totals under the current plan
+    for (std::size_t r = 0; r < target.size(); ++r) {
+      mismatch = std::max(mismatch, std::abs(column[r] * (*b)[r] / target[r] - 1.0));
+    }
+    // The givers' totals are exact here (the last update); stop if the recipients' are too.
+    if (sweep > 0 && mismatch < kFittingTolerance) break;
+    for (std::size_t r = 0; r < target.size(); ++r) (*b)[r] = target[r] / column[r];
+    for (int g = 0; g < givers; ++g) {
+      if (give[g] == 0.0) continue;
+      double row = 0.0;
+      for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) row += (*b)[edge[e]];
+      (*a)[g] = give[g] / row;
+    }
+  }
+}
+
+// Scales every spring end's dispersion weight by its node's factor.
+void ScaleDispersionWeights(const std::vector<double>& scale, ModelBuilder* builder) {
+  for (SpringIndex s = 0; s < builder->num_springs(); ++s) {
+    const NodeIndex node_a = builder->spring_node_a(s);
+    const NodeIndex node_b = builder->spring_node_b(s);
+    const double weight_a = builder->dispersion_weight_a(s);
+    const double weight_b = builder->dispersion_weight_b(s);
+    builder->SetDispersionWeight(s, node_a, scale[node_a] * weight_a);
+    builder->SetDispersionWeight(s, node_b, scale[node_b] * weight_b);
+  }
+}
+
+}  // namespace
+
+void ShiftOuterLayerDispersion(const OuterLayerNeighbourhoods& layer, double keep,
+                               ModelBuilder* builder) {
+  const std::vector<double> star = StarWeights(*builder);
+  const NumberedRecipients numbered = NumberRecipients(layer, builder->num_nodes());
+  const std::vector<NodeIndex>& receiving = numbered.receiving;
+  const std::vector<int>& edge = numbered.edge;
   const int givers = static_cast<int>(layer.givers.size());
   std::vector<double> give(givers, 0.0);
   double given = 0.0;
@@ -68,31 +128,8 @@ void ShiftOuterLayerDispersion(const OuterLayerNeighbourhoods& layer, double kee
   for (std::size_t r = 0; r < receiving.size(); ++r) {
     target[r] = given * star[receiving[r]] / receiving_star;
   }
-
-  // Iterative proportional fitting of the plan T_gr = a_g b_r over the neighbourhoods. A split
-  // that followed each giver's neighbourhood alone piled the bulk of edges and corners onto the
-  // few nodes beneath them, which then set the step.
-  std::vector<double> a(givers, 1.0), b(receiving.size(), 1.0), column(receiving.size());
-  for (int sweep = 0; sweep < kMaxFittingSweeps; ++sweep) {
-    std::fill(column.begin(), column.end(), 0.0);
-    for (int g = 0; g < givers; ++g) {
-      if (give[g] == 0.0) continue;
-      for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) column[edge[e]] += a[g];
-    }
-    double mismatch = 0.0;  // of the recipients' totals under the current plan
-    for (std::size_t r = 0; r < receiving.size(); ++r) {
-      mismatch = std::max(mismatch, std::abs(column[r] * b[r] / target[r] - 1.0));
-    }
-    // The givers' totals are exact here (the last update); stop if the recipients' are too.
-    if (sweep > 0 && mismatch < kFittingTolerance) break;
-    for (std::size_t r = 0; r < receiving.size(); ++r) b[r] = target[r] / column[r];
-    for (int g = 0; g < givers; ++g) {
-      if (give[g] == 0.0) continue;
-      double row = 0.0;
-      for (int e = layer.offsets[g]; e < layer.offsets[g + 1]; ++e) row += b[edge[e]];
-      a[g] = give[g] / row;
-    }
-  }
+  std::vector<double> a(givers, 1.0), b(receiving.size(), 1.0);
+  FitPlan(layer, edge, give, target, &a, &b);
 
   std::vector<double> scale(builder->num_nodes(), 1.0);
   std::vector<double> received(receiving.size(), 0.0);
@@ -106,14 +143,7 @@ void ShiftOuterLayerDispersion(const OuterLayerNeighbourhoods& layer, double kee
   for (std::size_t r = 0; r < receiving.size(); ++r) {
     scale[receiving[r]] = 1.0 + received[r] / star[receiving[r]];
   }
-  for (SpringIndex s = 0; s < builder->num_springs(); ++s) {
-    const NodeIndex node_a = builder->spring_node_a(s);
-    const NodeIndex node_b = builder->spring_node_b(s);
-    const double weight_a = builder->dispersion_weight_a(s);
-    const double weight_b = builder->dispersion_weight_b(s);
-    builder->SetDispersionWeight(s, node_a, scale[node_a] * weight_a);
-    builder->SetDispersionWeight(s, node_b, scale[node_b] * weight_b);
-  }
+  ScaleDispersionWeights(scale, builder);
 }
 
 }  // namespace msm_sim::core::lattice

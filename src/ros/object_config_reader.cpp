@@ -216,6 +216,77 @@ ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
   return config;
 }
 
+// The lattice keys: model, spacing or target_nodes, spring law, anti-aliasing, the free faces'
+// bending, the outer layer's dispersion and the random seed.
+void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
+  config->model = ReadLatticeKind(object, config->model, path);
+  if (config->model == core::LatticeKind::kBaudet &&
+      config->shape.kind != core::BodyShape::Kind::kBox) {
+    Fail(path + "/model", "baudet fills boxes only (shape type box)");
+  }
+  config->spacing = NonNegative(object, "spacing", 0.0, path);
+  config->target_nodes =
+      static_cast<int>(param::Count(object, "target_nodes", 0.0, core::kMaxBodyNodes, path));
+  if ((config->spacing > 0.0) == (config->target_nodes > 0)) {
+    Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
+  }
+  config->spring = ReadSpringLaw(object, path);
+  config->antialias = Flag(object, "antialias", true, path);
+  config->free_face_bending = Flag(object, "free_face_bending", false, path);
+  if (config->free_face_bending && config->model != core::LatticeKind::kCubic) {
+    Fail(path + "/free_face_bending", "applies to cubic models only");
+  }
+  config->surface_dispersion = Number(object, "surface_dispersion", 1.0, path);
+  if (!(config->surface_dispersion > 0.0 && config->surface_dispersion <= 1.0)) {
+    Fail(path + "/surface_dispersion",
+         "must lie in (0, 1] (the share of its bulk the outer node layer keeps; 1: off), got " +
+             std::to_string(config->surface_dispersion));
+  }
+  if (config->surface_dispersion != 1.0 && config->model != core::LatticeKind::kCubic) {
+    Fail(path + "/surface_dispersion", "applies to cubic models only");
+  }
+  config->seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
+}
+
+// The dynamics keys: dampers, friction, restitution and the orientation barrier.
+void ReadDynamicsKeys(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
+  config->damping = NonNegative(object, "damping", 2e-4, path);
+  config->friction = NonNegative(object, "friction", config->friction, path);
+  config->restitution = Number(object, "restitution", config->restitution, path);
+  if (config->restitution < 0.0 || config->restitution > 1.0) {
+    Fail(path + "/restitution", "must lie in [0, 1]");
+  }
+  config->orientation_threshold =
+      Number(object, "orientation_threshold", config->orientation_threshold, path);
+  if (config->orientation_threshold != 0.0 &&
+      !(config->orientation_threshold > 0.0 && config->orientation_threshold < 1.0)) {
+    Fail(path + "/orientation_threshold",
+         "must be 0 (off) or lie in (0, 1), a fraction of a cell corner's rest volume; 0.2 "
+         "unfolds a block squeezed to 30 % of its height");
+  }
+  if (config->orientation_threshold > 0.0 && config->model == core::LatticeKind::kRandom) {
+    Fail(path + "/orientation_threshold",
+         "applies to lattices with cells (cubic, baudet); a random lattice has none");
+  }
+}
+
+// The clamps and the visual mesh, both optional.
+void ReadClampsAndVisual(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
+  if (Has(object, "clamps")) {
+    XmlRpcValue& clamps = object["clamps"];
+    if (clamps.getType() != XmlRpcValue::TypeArray) Fail(path + "/clamps", "expected a list");
+    for (int c = 0; c < clamps.size(); ++c) {
+      config->clamps.push_back(ReadClamp(clamps[c], path + "/clamps[" + std::to_string(c) + "]"));
+    }
+  }
+  if (Has(object, "visual_mesh")) {
+    config->visual_mesh_path =
+        ResolveUri(Text(object, "visual_mesh", "", path), path + "/visual_mesh");
+    RequireReadable(config->visual_mesh_path, path + "/visual_mesh");
+    config->visual_scale = Positive(object, "visual_scale", 1.0, path);
+  }
+}
+
 ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path) {
   KnownKeys(object, kObjectKeys, path);
   ObjectConfig config;
@@ -223,65 +294,10 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   if (config.name.empty()) Fail(path + "/name", "missing");
   config.shape = ReadShape(object, path);
   config.pose = ReadPose(object, path);
-  config.model = ReadLatticeKind(object, config.model, path);
-  if (config.model == core::LatticeKind::kBaudet &&
-      config.shape.kind != core::BodyShape::Kind::kBox) {
-    Fail(path + "/model", "baudet fills boxes only (shape type box)");
-  }
-  config.spacing = NonNegative(object, "spacing", 0.0, path);
-  config.target_nodes =
-      static_cast<int>(param::Count(object, "target_nodes", 0.0, core::kMaxBodyNodes, path));
-  if ((config.spacing > 0.0) == (config.target_nodes > 0)) {
-    Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
-  }
-  config.spring = ReadSpringLaw(object, path);
-  config.antialias = Flag(object, "antialias", true, path);
-  config.free_face_bending = Flag(object, "free_face_bending", false, path);
-  if (config.free_face_bending && config.model != core::LatticeKind::kCubic) {
-    Fail(path + "/free_face_bending", "applies to cubic models only");
-  }
-  config.surface_dispersion = Number(object, "surface_dispersion", 1.0, path);
-  if (!(config.surface_dispersion > 0.0 && config.surface_dispersion <= 1.0)) {
-    Fail(path + "/surface_dispersion",
-         "must lie in (0, 1] (the share of its bulk the outer node layer keeps; 1: off), got " +
-             std::to_string(config.surface_dispersion));
-  }
-  if (config.surface_dispersion != 1.0 && config.model != core::LatticeKind::kCubic) {
-    Fail(path + "/surface_dispersion", "applies to cubic models only");
-  }
-  config.seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
+  ReadLatticeKeys(object, path, &config);
   ReadMaterial(object, materials, path, &config);
-  config.damping = NonNegative(object, "damping", 2e-4, path);
-  config.friction = NonNegative(object, "friction", config.friction, path);
-  config.restitution = Number(object, "restitution", config.restitution, path);
-  if (config.restitution < 0.0 || config.restitution > 1.0) {
-    Fail(path + "/restitution", "must lie in [0, 1]");
-  }
-  config.orientation_threshold =
-      Number(object, "orientation_threshold", config.orientation_threshold, path);
-  if (config.orientation_threshold != 0.0 &&
-      !(config.orientation_threshold > 0.0 && config.orientation_threshold < 1.0)) {
-    Fail(path + "/orientation_threshold",
-         "must be 0 (off) or lie in (0, 1), a fraction of a cell corner's rest volume; 0.2 "
-         "unfolds a block squeezed to 30 % of its height");
-  }
-  if (config.orientation_threshold > 0.0 && config.model == core::LatticeKind::kRandom) {
-    Fail(path + "/orientation_threshold",
-         "applies to lattices with cells (cubic, baudet); a random lattice has none");
-  }
-  if (Has(object, "clamps")) {
-    XmlRpcValue& clamps = object["clamps"];
-    if (clamps.getType() != XmlRpcValue::TypeArray) Fail(path + "/clamps", "expected a list");
-    for (int c = 0; c < clamps.size(); ++c) {
-      config.clamps.push_back(ReadClamp(clamps[c], path + "/clamps[" + std::to_string(c) + "]"));
-    }
-  }
-  if (Has(object, "visual_mesh")) {
-    config.visual_mesh_path =
-        ResolveUri(Text(object, "visual_mesh", "", path), path + "/visual_mesh");
-    RequireReadable(config.visual_mesh_path, path + "/visual_mesh");
-    config.visual_scale = Positive(object, "visual_scale", 1.0, path);
-  }
+  ReadDynamicsKeys(object, path, &config);
+  ReadClampsAndVisual(object, path, &config);
   return config;
 }
 
