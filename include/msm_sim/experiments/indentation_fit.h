@@ -62,8 +62,8 @@ IndentationFitResult FitYoungsModulus(const std::vector<IndentationPoint>& curve
 inline constexpr double kNodesAcrossContactRadius = 4.0;
 
 /// The most nodes `msm_lab fit` builds to resolve a contact. A block 10 contact radii wide and
-/// deep, all that Hertz's contact needs (its force is then within 2 % of the half-space's), has
-/// 64,000 to 69,000 nodes at 4 across the contact radius: the budget leaves three times that
+/// deep, all that Hertz's contact needs (docs/design/indentation-fit.md), has about 40^3
+/// nodes at 4 across the contact radius: the budget leaves three times that
 /// volume. Past it a fit's cost, nodes times steps (a finer spacing also shortens the stable
 /// step), grows without making E more accurate; docs/lab.md ("fit") explains the choice.
 inline constexpr double kIndentationFitNodeBudget = 200'000;
