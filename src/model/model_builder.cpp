@@ -6,12 +6,17 @@
 
 namespace msm_sim::core {
 
-NodeIndex ModelBuilder::AddNode(const Eigen::Vector3d& rest_position, double mass) {
+NodeIndex ModelBuilder::AddNode(const Eigen::Vector3d& rest_position, double mass,
+                                double surface_inset) {
   if (!(mass > 0.0) || !std::isfinite(mass) || !rest_position.allFinite()) {
     throw std::invalid_argument("node mass must be finite and > 0 and its position finite");
   }
+  if (!(surface_inset >= 0.0) || !std::isfinite(surface_inset)) {
+    throw std::invalid_argument("a node's surface inset must be finite and >= 0");
+  }
   positions_.push_back(rest_position);
   masses_.push_back(mass);
+  surface_insets_.push_back(surface_inset);
   return static_cast<NodeIndex>(masses_.size() - 1);
 }
 
@@ -49,9 +54,11 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
   const int n = num_nodes();
   model.rest_positions_.resize(3, n);
   model.masses_.resize(n);
+  model.surface_insets_.resize(n);
   for (int i = 0; i < n; ++i) {
     model.rest_positions_.col(i) = positions_[i];
     model.masses_[i] = masses_[i];
+    model.surface_insets_[i] = surface_insets_[i];
   }
   model.spring_node_a_ = node_a_;
   model.spring_node_b_ = node_b_;

@@ -93,6 +93,7 @@ void WriteNodes(const Model& model, AtomicFileWriter* out) {
       PutF64(model.rest_positions()(d, i), record + NodeLayout::kPosition + kF64Bytes * d);
     }
     PutF64(model.masses()[i], record + NodeLayout::kMass);
+    PutF64(model.surface_insets()[i], record + NodeLayout::kSurfaceInset);
     out->Append(record, sizeof record);
   }
 }
@@ -255,13 +256,14 @@ void ReadNodes(HashingFileReader& file, const Header& header, const std::string&
     const Eigen::Vector3d position(GetF64(position_bytes), GetF64(position_bytes + kF64Bytes),
                                    GetF64(position_bytes + 2 * kF64Bytes));
     const double mass = GetF64(record + NodeLayout::kMass);
-    if (!position.allFinite())
-      Fail(path, "node " + std::to_string(i) + " has a non-finite position");
-    if (!Positive(mass)) {
-      Fail(path,
-           "node " + std::to_string(i) + " has mass " + Str(mass) + " (must be finite and > 0)");
+    const double inset = GetF64(record + NodeLayout::kSurfaceInset);
+    const std::string node = "node " + std::to_string(i);
+    if (!position.allFinite()) Fail(path, node + " has a non-finite position");
+    if (!Positive(mass)) Fail(path, node + " has mass " + Str(mass) + " (must be finite and > 0)");
+    if (!(inset >= 0.0) || !std::isfinite(inset)) {
+      Fail(path, node + " has surface inset " + Str(inset) + " (must be finite and >= 0)");
     }
-    builder->AddNode(position, mass);  // cannot throw: its preconditions were checked above
+    builder->AddNode(position, mass, inset);  // cannot throw: its preconditions were checked
   }
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Private to the model file code: format version 1 of msm_sim model files (model_file.h) as
+// Private to the model file code: format version 2 of msm_sim model files (model_file.h) as
 // named record layouts, checked at compile time to tile their records without gaps.
 
 #include <array>
@@ -43,11 +43,12 @@ struct HeaderLayout {
   static constexpr std::size_t kCharacteristicLength = 76;
   static constexpr std::size_t kBytes = 84;
 };
-// Per node: rest position and mass (doubles).
+// Per node: rest position, mass and surface inset (doubles).
 struct NodeLayout {
   static constexpr std::size_t kPosition = 0;  // x, y, z
   static constexpr std::size_t kMass = 24;
-  static constexpr std::size_t kBytes = 32;
+  static constexpr std::size_t kSurfaceInset = 32;
+  static constexpr std::size_t kBytes = 40;
 };
 // Per spring: its two node indices (uint32), then stiffness, rest length and the two dispersion
 // weights (doubles).
@@ -98,7 +99,9 @@ static_assert(Packed({{HeaderLayout::kMagic, kModelFileMagicSize},
                       {HeaderLayout::kCharacteristicLength, kF64Bytes}},
                      HeaderLayout::kBytes),
               "header fields must tile the header");
-static_assert(Packed({{NodeLayout::kPosition, 3 * kF64Bytes}, {NodeLayout::kMass, kF64Bytes}},
+static_assert(Packed({{NodeLayout::kPosition, 3 * kF64Bytes},
+                      {NodeLayout::kMass, kF64Bytes},
+                      {NodeLayout::kSurfaceInset, kF64Bytes}},
                      NodeLayout::kBytes),
               "node fields must tile the node record");
 static_assert(Packed({{SpringLayout::kNodeA, kU32Bytes},

@@ -9,7 +9,8 @@ Model TransformedModel(const Model& model, const Eigen::Isometry3d& pose) {
   builder.SetSpringLaw(model.spring_law());
   builder.SetDispersionFraction(model.dispersion_fraction());
   for (NodeIndex i = 0; i < model.num_nodes(); ++i) {
-    builder.AddNode(pose * Eigen::Vector3d(model.rest_positions().col(i)), model.masses()[i]);
+    builder.AddNode(pose * Eigen::Vector3d(model.rest_positions().col(i)), model.masses()[i],
+                    model.surface_insets()[i]);
   }
   for (SpringIndex s = 0; s < model.num_springs(); ++s) {
     const NodeIndex a = model.spring_node_a()[s];

@@ -13,7 +13,9 @@
 #include "msm_sim/dynamics/collider.h"
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/mechanics/stable_time_step.h"
 #include "msm_sim/model/model_builder.h"
@@ -127,6 +129,39 @@ TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
     EXPECT_GT(border.radii[k], 0.05);                        // half the A spring
     EXPECT_LT(border.radii[k], 0.5 * std::sqrt(2.0) * 0.1);  // half the B spring
   }
+}
+
+// A lattice cut by a curved surface: no collision sphere stands proud of the others. The cut
+// cells' nodes lie up to half a spacing outside the surface; with the mean half-spring radius
+// alone a row of them stood a whole spacing past its neighbours' spheres and carried a pad's
+// squeeze by itself (docs/physics.md §7). Now each sphere ends about as far past the surface as
+// a whole cell's node's does (r - a/2, within the flat-surface approximation of the cut).
+TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
+  const double radius = 1.0, a = 0.1;
+  MeshCubicLatticeOptions options;
+  options.spacing = a;
+  const Model model = BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.3, 1000.0),
+                                               SolidMesh(MakeIcosphereMesh(radius, 4)), options);
+  const BorderNodes border = FindBorderNodes(model);
+  ASSERT_GT(border.nodes.size(), 100u);
+  double farthest = -1.0;
+  for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+    ASSERT_GT(border.radii[k], 0.0);
+    const double past = model.rest_positions().col(border.nodes[k]).norm() + border.radii[k];
+    farthest = std::max(farthest, past - radius);
+  }
+  std::printf("  farthest sphere past the surface: %.3f a\n", farthest / a);
+  // A whole cell's node: mean half-spring radius at most half a face diagonal.
+  EXPECT_LT(farthest, (0.5 * std::sqrt(2.0) - 0.5) * a + 0.1 * a);
+  EXPECT_GT(farthest, 0.0);
+  // Whole cells keep their radii: an aligned box has no insets.
+  CubicLatticeOptions box;
+  box.size = Eigen::Vector3d::Constant(0.4);
+  box.spacing = 0.1;
+  EXPECT_EQ(BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), box)
+                .surface_insets()
+                .maxCoeff(),
+            0.0);
 }
 
 // A sphere lowered onto a hand-made border touches the collision sphere it meets first.

@@ -20,9 +20,12 @@
 
 #include <gtest/gtest.h>
 
+#include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/geometry/vtk_export.h"
 #include "msm_sim/lattice/baudet_lattice_builder.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/mesh_lattice_builder.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_file.h"
@@ -33,7 +36,7 @@ namespace {
 
 using Bytes = std::vector<unsigned char>;
 
-// Layout of format version 1 (model_file.h), for crafting damaged files.
+// Layout of format version 2 (model_file.h), for crafting damaged files.
 constexpr std::size_t kVersionOffset = 16;
 constexpr std::size_t kCountsOffset = 20;
 constexpr std::size_t kLawOffset = 32;
@@ -82,6 +85,7 @@ void ExpectIdentical(const Model& a, const Model& b) {
   ASSERT_EQ(a.num_springs(), b.num_springs());
   EXPECT_TRUE(SameBits(a.rest_positions(), b.rest_positions()));
   EXPECT_TRUE(SameBits(a.masses(), b.masses()));
+  EXPECT_TRUE(SameBits(a.surface_insets(), b.surface_insets()));
   EXPECT_EQ(a.spring_node_a(), b.spring_node_a());
   EXPECT_EQ(a.spring_node_b(), b.spring_node_b());
   EXPECT_TRUE(SameBits(a.spring_rest_length(), b.spring_rest_length()));
@@ -219,6 +223,18 @@ TEST_F(ModelFileTest, RoundTripsACubicEmsmLattice) {
   ExpectSameForces(model, loaded);
 }
 
+// A lattice filling a sphere: its cut cells' nodes carry surface insets.
+TEST_F(ModelFileTest, RoundTripsTheSurfaceInsetsOfAMeshLattice) {
+  MeshCubicLatticeOptions options;
+  options.spacing = 0.3;
+  const Model model = BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.3, 1000.0),
+                                               SolidMesh(MakeIcosphereMesh(1.0, 3)), options);
+  ASSERT_GT(model.surface_insets().maxCoeff(), 0.0);
+  SaveModel(model, Path("sphere.msm"));
+  const Model loaded = LoadModel(Path("sphere.msm"));
+  ExpectIdentical(model, loaded);
+}
+
 TEST_F(ModelFileTest, RoundTripsARandomLattice) {
   const Model model = RandomModel();
   SaveModel(model, Path("random.msm"));
@@ -306,7 +322,7 @@ TEST_F(ModelFileTest, RejectsBadMagicAndOtherVersions) {
   Bytes newer = good;
   PutU32(&newer, kVersionOffset, 7);
   Reseal(&newer);
-  EXPECT_CONTAINS(LoadError(newer), "written by format version 7, this build reads version 1");
+  EXPECT_CONTAINS(LoadError(newer), "written by format version 7, this build reads version 2");
 }
 
 TEST_F(ModelFileTest, EveryTruncationThrows) {
@@ -345,7 +361,7 @@ TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
   const Bytes good = Saved(BaudetModel(0.1));
   const std::uint32_t nodes = GetU32(good, kCountsOffset);
   const std::uint32_t springs = GetU32(good, kCountsOffset + 4);
-  const std::size_t springs_offset = kNodesOffset + 32 * std::size_t{nodes};
+  const std::size_t springs_offset = kNodesOffset + 40 * std::size_t{nodes};
   const std::size_t corrections_offset = springs_offset + 40 * std::size_t{springs};
   auto edit = [&](auto change) {
     Bytes bytes = good;
@@ -367,8 +383,10 @@ TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kMaterialOffset + 32, 0.0); }), "volume");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 24, std::nan("")); }),
                   "node 0 has mass nan");
-  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 32 + 8, INFINITY); }),
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 40 + 8, INFINITY); }),
                   "node 1 has a non-finite position");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 32, -1.0); }),
+                  "node 0 has surface inset -1");
 
   const std::uint32_t a0 = GetU32(good, springs_offset);
   const std::uint32_t b0 = GetU32(good, springs_offset + 4);

@@ -33,6 +33,11 @@ class Model {
   const Eigen::Matrix3Xd& rest_positions() const { return rest_positions_; }
   /// Node masses (kg).
   const Eigen::VectorXd& masses() const { return masses_; }
+  /// Per node (m, >= 0): how far the body's surface lies inside the outer face of the node's
+  /// lattice cell, (1 - chi) a for a node-centred cell holding the fraction chi of its volume
+  /// (docs/physics.md §5); 0 for a whole cell and for lattices whose nodes are not cell centres.
+  /// Collision spheres shrink by it (FindBorderNodes, docs/physics.md §7).
+  const Eigen::VectorXd& surface_insets() const { return surface_insets_; }
 
   /// Spring end points: spring s joins spring_node_a()[s] and spring_node_b()[s].
   const std::vector<NodeIndex>& spring_node_a() const { return spring_node_a_; }
@@ -89,6 +94,7 @@ class Model {
 
   Eigen::Matrix3Xd rest_positions_;
   Eigen::VectorXd masses_;
+  Eigen::VectorXd surface_insets_;
   std::vector<NodeIndex> spring_node_a_;
   std::vector<NodeIndex> spring_node_b_;
   std::vector<double> spring_rest_length_;

@@ -17,8 +17,9 @@ class ModelBuilder {
  public:
   explicit ModelBuilder(const Material& material) : material_(material) {}
 
-  /// Adds a node and returns its index. Precondition: mass > 0 and finite.
-  NodeIndex AddNode(const Eigen::Vector3d& rest_position, double mass);
+  /// Adds a node and returns its index. Precondition: mass > 0 and finite; surface_inset (m,
+  /// Model::surface_insets) finite and >= 0.
+  NodeIndex AddNode(const Eigen::Vector3d& rest_position, double mass, double surface_inset = 0.0);
   /// Adds a spring between two existing distinct nodes; returns its index.
   /// Precondition: stiffness > 0 and the nodes do not coincide.
   SpringIndex AddSpring(NodeIndex a, NodeIndex b, double stiffness);
@@ -58,6 +59,7 @@ class ModelBuilder {
   double dispersion_fraction_ = 0.0;
   std::vector<Eigen::Vector3d> positions_;
   std::vector<double> masses_;
+  std::vector<double> surface_insets_;
   std::vector<NodeIndex> node_a_;
   std::vector<NodeIndex> node_b_;
   std::vector<double> rest_length_;

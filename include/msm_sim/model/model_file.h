@@ -10,7 +10,7 @@ namespace msm_sim::core {
 /// Binary model files (".msm"): a built Model saved once and reloaded at every start, so that a
 /// large lattice is not rebuilt (random sequential addition, stiffness calibration) each time.
 ///
-/// Format version 1, every integer and IEEE-754 double little-endian, no padding:
+/// Format version 2, every integer and IEEE-754 double little-endian, no padding:
 ///
 ///   offset  size  field
 ///   0       16    magic kModelFileMagic
@@ -21,7 +21,7 @@ namespace msm_sim::core {
 ///   32      4     uint32 spring law: 0 = linear, 1 = nonlinear (carrier)
 ///   36      48    double E (Pa), nu, density (kg/m^3), dispersion fraction q, volume (m^3),
 ///                 characteristic length (m)
-///   84      32 N  per node: double x, y, z (m), mass (kg)
+///   84      40 N  per node: double x, y, z (m), mass (kg), surface inset (m)
 ///           40 S  per spring: uint32 node a, uint32 node b, double stiffness (N/m),
 ///                 rest length (m), dispersion weight at a, dispersion weight at b
 ///           56 C  per correction element: 12 x uint32 spring index, double coefficient (N/m)
@@ -31,7 +31,7 @@ namespace msm_sim::core {
 /// guard against a platform computing them differently.
 inline constexpr char kModelFileMagic[] = "\x89MSMSIMMODEL\r\n\x1a\n";
 inline constexpr int kModelFileMagicSize = 16;
-inline constexpr std::uint32_t kModelFileVersion = 1;
+inline constexpr std::uint32_t kModelFileVersion = 2;
 
 /// Writes `model` to `path` in the format above. The file is written next to `path` under a
 /// temporary name and renamed over `path` only when complete and flushed to disk, so a crash or a
