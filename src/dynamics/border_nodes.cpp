@@ -43,11 +43,11 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance) {
       half_lengths += 0.5 * model.spring_rest_length()[s];
     }
     if (count >= 4 && sum.norm() <= imbalance * count) continue;
-    // A node without springs still needs a size: half the model's node spacing. A partial
-    // cell's sphere ends as far beyond the surface as a whole cell's (docs/physics.md §7).
+    // A node without springs still needs a size: half the model's node spacing. A cut cell's
+    // sphere ends halfway between the surface and the cell's outer face (docs/physics.md §7).
     const double radius = (count > 0 ? half_lengths / count : 0.5 * model.characteristic_length()) -
-                          model.surface_insets()[i];
-    if (radius <= 0.0) continue;  // its centre lies beyond every whole cell's sphere
+                          0.5 * model.surface_insets()[i];
+    if (radius <= 0.0) continue;
     border.nodes.push_back(i);
     border.radii.push_back(radius);
   }

@@ -21,6 +21,9 @@ constexpr double kSqueezeTolerance = 0.05;
 constexpr double kTouchingSpeed = 0.25;
 // The fraction of the estimated position error the force control corrects in one step.
 constexpr double kCorrectionGain = 0.2;
+// Steps after which a right stiffness estimate has closed all but (1 - kCorrectionGain)^25,
+// under 1 %, of a force error.
+constexpr int kSettleSteps = 25;
 
 void CheckOptions(const GraspExperimentOptions& o) {
   const double sum = o.friction + o.force_ratio + o.pad_size + o.pad_thickness + o.close_speed +
@@ -77,6 +80,19 @@ Collider Pad(const std::string& name, const Eigen::AlignedBox3d& body,
 
 // One grasp over one World: the stages in order, each stepping the World and keeping the
 // figures every stage reports.
+// A pad's force control: side -1 is the left pad (facing +axis). Travel (m) is how far it has
+// closed; touch its travel when it first pressed; stiffness (N/m) 0 until the first crossing;
+// error (N) the force it lacked at the last step.
+struct PadControl {
+  int collider = 0;
+  double side = 0.0;
+  double travel = 0.0;
+  double touch = -1.0;
+  double stiffness = 0.0;
+  double error = 0.0;
+  int same_sign_steps = 0;  // consecutive steps whose error kept its sign
+};
+
 class Grasp {
  public:
   Grasp(std::shared_ptr<const Model> model, const GraspExperimentOptions& options)
@@ -142,20 +158,14 @@ class Grasp {
   // flat face's stiff contact or chatter on it. The secant can still be far too soft (a pad that
   // first meets a few nodes reads their impacts), so each overshoot past the tolerance that does
   // not at least halve the force error (its sign changing from one step to the next) doubles the
-  // stiffness estimate.
+  // stiffness estimate; an error that keeps its sign for kSettleSteps, long after a right
+  // estimate would have closed it, halves it (the doubling can run away on a few nodes' impacts).
   void ControlSqueeze(double vertical_speed) {
     for (PadControl& pad : pads_) {
       const double force = PadForce(pad.collider, pad.side);
       if (force > 0.0 && !(pad.touch >= 0.0)) pad.touch = pad.travel;
       const double error = result_.target_force - force;
-      if (pad.stiffness == 0.0 && force >= result_.target_force) {
-        pad.stiffness =
-            force / std::max(pad.travel - pad.touch, options_.close_speed * options_.step);
-      } else if (pad.stiffness > 0.0 && error * pad.error < 0.0 &&
-                 std::abs(error) > kSqueezeTolerance * result_.target_force &&
-                 std::abs(error) > 0.5 * std::abs(pad.error)) {
-        pad.stiffness *= 2.0;
-      }
+      AdaptStiffness(force, error, &pad);
       pad.error = error;
       // Touching, a quarter of the speed: a pad striking the object at full speed reads impacts.
       double closing =
@@ -168,6 +178,21 @@ class Grasp {
       Eigen::Vector3d velocity(0.0, 0.0, vertical_speed);
       velocity[axis_] = -pad.side * closing;
       world_.collider(pad.collider).linear_velocity = velocity;
+    }
+  }
+
+  void AdaptStiffness(double force, double error, PadControl* pad) const {
+    const bool outside = std::abs(error) > kSqueezeTolerance * result_.target_force;
+    pad->same_sign_steps = error * pad->error > 0.0 ? pad->same_sign_steps + 1 : 0;
+    if (pad->stiffness == 0.0 && force >= result_.target_force) {
+      pad->stiffness =
+          force / std::max(pad->travel - pad->touch, options_.close_speed * options_.step);
+    } else if (pad->stiffness > 0.0 && error * pad->error < 0.0 && outside &&
+               std::abs(error) > 0.5 * std::abs(pad->error)) {
+      pad->stiffness *= 2.0;
+    } else if (pad->stiffness > 0.0 && outside && pad->same_sign_steps >= kSettleSteps) {
+      pad->stiffness *= 0.5;
+      pad->same_sign_steps = 0;
     }
   }
 
@@ -247,17 +272,6 @@ class Grasp {
   int axis_ = 0;  // the pads close along x (0) or y (1)
   int left_ = 0;
   int right_ = 0;
-  // A pad's force control: side -1 is the left pad (facing +axis). Travel (m) is how far it has
-  // closed; touch its travel when it first pressed; stiffness (N/m) 0 until the first crossing;
-  // error (N) the force it lacked at the last step.
-  struct PadControl {
-    int collider = 0;
-    double side = 0.0;
-    double travel = 0.0;
-    double touch = -1.0;
-    double stiffness = 0.0;
-    double error = 0.0;
-  };
   PadControl pads_[2];
   bool tracking_ = false;
   double pad_start_ = 0.0;

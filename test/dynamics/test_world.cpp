@@ -131,11 +131,12 @@ TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
   }
 }
 
-// A lattice cut by a curved surface: no collision sphere stands proud of the others. The cut
-// cells' nodes lie up to half a spacing outside the surface; with the mean half-spring radius
-// alone a row of them stood a whole spacing past its neighbours' spheres and carried a pad's
-// squeeze by itself (docs/physics.md §7). Now each sphere ends about as far past the surface as
-// a whole cell's node's does (r - a/2, within the flat-surface approximation of the cut).
+// A lattice cut by a curved surface: no collision sphere stands a spacing proud of the others.
+// The cut cells' nodes lie up to half a spacing outside the surface; with the mean half-spring
+// radius alone a row of them stood a whole spacing past its neighbours' spheres and carried a
+// pad's squeeze by itself. Each sphere now ends halfway between the surface and its cell's outer
+// face (docs/physics.md §7): at most the largest mean half-length (half a face diagonal) less
+// half the thinnest cell (min_fraction 0.1) past the surface, within the flat-cut approximation.
 TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
   const double radius = 1.0, a = 0.1;
   MeshCubicLatticeOptions options;
@@ -151,8 +152,7 @@ TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
     farthest = std::max(farthest, past - radius);
   }
   std::printf("  farthest sphere past the surface: %.3f a\n", farthest / a);
-  // A whole cell's node: mean half-spring radius at most half a face diagonal.
-  EXPECT_LT(farthest, (0.5 * std::sqrt(2.0) - 0.5) * a + 0.1 * a);
+  EXPECT_LT(farthest, (0.5 * std::sqrt(2.0) - 0.05) * a);
   EXPECT_GT(farthest, 0.0);
   // Whole cells keep their radii: an aligned box has no insets.
   CubicLatticeOptions box;

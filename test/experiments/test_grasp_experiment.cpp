@@ -140,8 +140,8 @@ TEST(GraspExperiment, NoFoldedCellsUnderAHardSqueeze) {
 // surface under each pad (a sixth of their cell inside). Their collision spheres stood 3 mm
 // proud of the rest and carried the whole squeeze until the row buckled: the cylinder shot
 // 3.7 mm along its axis, the squeeze fell from 9.9 to 0.7 N with the pads still, and nodes
-// reached 2.6 m/s. Without a sphere on such nodes the squeeze spreads over the contact
-// (docs/physics.md §7).
+// reached 2.6 m/s. With spheres reduced by half their cell's inset the squeeze spreads over the
+// contact (docs/physics.md §7).
 TEST(GraspExperiment, NoSliverRowBucklesUnderAHardSqueeze) {
   const GraspExperimentResult r = Grasp("cylinder 4 x 6 cm, 3 mm, nu 0.49, outer layer 0.25",
                                         Object(LyingCylinder(0.02, 0.06), 0.003, 0.49, 0.25), 30.0);

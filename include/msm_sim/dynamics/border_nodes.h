@@ -12,9 +12,10 @@ namespace msm_sim::core {
 /// The nodes that carry collision spheres (docs/physics.md §7 "microcollisions") and their radii.
 struct BorderNodes {
   std::vector<NodeIndex> nodes;
-  /// m, the mean half-length of the node's springs less its Model::surface_insets: a node of a
-  /// cell the surface cuts stands for the cell's inside part, and its sphere reaches as far past
-  /// the surface as a whole cell's node's does (docs/physics.md §7).
+  /// m, the mean half-length of the node's springs less half its Model::surface_insets: a node
+  /// of a cell the surface cuts stands for the cell's inside part, and its sphere ends halfway
+  /// between the surface and the cell's outer face, where a whole cell's ends at its face
+  /// (docs/physics.md §7).
   std::vector<double> radii;
   /// m^2, the body's surface each node stands for in a flat contact (a contact patch's area is
   /// the sum over its touching nodes): min(1, 2 f) a^2, with a the model's characteristic
@@ -32,10 +33,9 @@ struct BorderNodes {
 /// to its neighbours exceeds `imbalance` in length (0 for an interior node of a cubic lattice,
 /// 0.29 on a face; below 0.24 for every interior node of a random lattice with <S> = 22), or
 /// when it has fewer than 4 springs. Interior nodes cannot reach a surface without a border node
-/// touching it first, so only border nodes are tested. A node whose surface inset is at least
-/// its mean spring half-length carries no sphere: its centre lies so far outside the body that
-/// any sphere of it would stand proud of the whole cells' (a sliver of a cell, whose row alone
-/// would carry a pad's squeeze and buckle). Precondition: imbalance in (0, 1).
+/// touching it first, so only border nodes are tested. A node whose radius would not be positive
+/// carries no sphere (none does on the package's lattices: an inset is below a spacing).
+/// Precondition: imbalance in (0, 1).
 BorderNodes FindBorderNodes(const Model& model, double imbalance = 0.25);
 
 /// Lowest z (m) reached by any border node's collision sphere with the nodes at `positions`
