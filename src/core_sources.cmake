@@ -47,6 +47,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_reference.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_kernels.cpp
+  ${MSM_SIM_DIR}/src/mechanics/lattice_uniaxial_tension.cpp
   ${MSM_SIM_DIR}/src/mechanics/single_precision_kernels.cpp
   ${MSM_SIM_DIR}/src/mechanics/single_precision_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp

@@ -84,6 +84,12 @@ struct FitArguments {
   bool fit_poisson = false;
   std::string second_curve;                               ///< its CSV
   Eigen::Vector3d second_size = Eigen::Vector3d::Zero();  ///< its block (m)
+  /// --tensile: E and the spring law from a uniaxial tensile curve instead (lab_fit_tensile.cpp).
+  std::string tensile;        ///< its CSV, empty for an indentation fit
+  std::string strain_column;  ///< a name, or a whole number: a 0-based index; empty: default
+  std::string stress_column;
+  std::string stress_unit;  ///< Pa | kPa | MPa; empty: from the stress column's name
+  double max_strain = 1.0;  ///< fit the curve up to this engineering strain
 };
 
 /// `msm_lab grip`: a block squeezed between two rigid jaws and lifted
@@ -133,7 +139,7 @@ struct LabArguments {
   /// deflection --reference: its mesh NX NY NZ; zero: chosen from the size (lab_reference.h)
   Eigen::Vector3i reference_elements = Eigen::Vector3i::Zero();
   std::vector<double> targets = {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49};  ///< poisson-sweep
-  std::string plot;  ///< poisson-sweep and indent: PNG to write, empty for none
+  std::string plot;  ///< poisson-sweep, indent and fit --tensile: PNG to write, empty for none
   std::string out;   ///< build: model file to write, empty for none
   std::string vtk;   ///< build: .vtu file to write, empty for none
   SlideArguments slide;

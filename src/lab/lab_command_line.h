@@ -1,7 +1,8 @@
 #pragma once
 // The pieces of msm_lab's command-line parser that its files share: lab_arguments.cpp (the
-// parser, the model options and the static commands) and lab_sphere_arguments.cpp (the commands
-// that press a rigid sphere into a block). Private to the lab library.
+// parser and the model options), lab_static_arguments.cpp (the static commands, slide and
+// material), lab_sphere_arguments.cpp (the commands that press a rigid sphere into a block) and
+// lab_fit_arguments.cpp (fit's --tensile). Private to the lab library.
 
 #include <string>
 #include <vector>
@@ -20,7 +21,8 @@ enum class Body {
   kDefaultBox,    // --size optional (poisson-sweep has defaults)
   kBlock,         // --size required, --model optional (cubic): indent
   kDefaultBlock,  // --size, --model, --youngs, --density optional (defaults): realtime, grip
-  kFitBlock,      // --size required; --model, --spacing, --poisson optional, no --youngs: fit
+  kFitBlock,      // --size (required with --indent); --model, --spacing, --poisson optional,
+                  // no --youngs: fit
   kGraspObject,   // --size or --mesh or neither (the shape's own options), --model optional
 };
 
@@ -55,6 +57,20 @@ CLI::Validator Finite(bool zero_allowed);
 
 /// The realtime, indent and fit commands.
 void AddSphereCommands(CLI::App* app, CommandLine* line);
+
+/// fit's --tensile and its options, after the --indent ones (lab_fit_arguments.cpp).
+void AddTensileOptions(CLI::App* fit, CommandLine* line);
+
+/// fit: one of --indent and --tensile, each with its own options; the reason when not, else "".
+std::string FitOptionProblem(const CommandLine& line);
+
+/// fit's defaults (see its help): nu 0.49. With neither --spacing nor --target-nodes, RunFit
+/// chooses a spacing that resolves the contact (lab_fit_command.cpp).
+void ApplyFitDefaults(CommandLine* line);
+
+/// The compression, deflection, poisson-sweep, build, slide and material commands
+/// (lab_static_arguments.cpp).
+void AddStaticCommands(CLI::App* app, CommandLine* line);
 
 /// The grip command (lab_grip_arguments.cpp).
 void AddGripCommand(CLI::App* app, CommandLine* line);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "lab_fit_tensile.h"
 #include "lab_model.h"
 #include "lab_report.h"
 #include "msm_sim/experiments/indentation_curve.h"
@@ -22,18 +23,6 @@ std::vector<core::IndentationPoint> ReadCurve(const std::string& path) {
   std::ifstream file(path);
   if (!file) throw std::invalid_argument("cannot read " + path);
   return core::ReadIndentationCurve(file);
-}
-
-// A parameter-server name: a letter, then letters, digits and underscores.
-void CheckMaterialName(const std::string& name) {
-  bool valid = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0]));
-  for (const char c : name) {
-    valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
-  }
-  if (!valid) {
-    throw std::invalid_argument("--name '" + name +
-                                "' is not a parameter name (a letter, then letters, digits, _)");
-  }
 }
 
 // The lattice spacing a fit simulates at, against the contact it must resolve.
@@ -254,7 +243,19 @@ void PrintFit(const LabArguments& arguments, const FitOutcome& fit, std::ostream
 
 }  // namespace
 
+void CheckMaterialName(const std::string& name) {
+  bool valid = !name.empty() && std::isalpha(static_cast<unsigned char>(name[0]));
+  for (const char c : name) {
+    valid = valid && (std::isalnum(static_cast<unsigned char>(c)) || c == '_');
+  }
+  if (!valid) {
+    throw std::invalid_argument("--name '" + name +
+                                "' is not a parameter name (a letter, then letters, digits, _)");
+  }
+}
+
 int RunFit(const LabArguments& given, std::ostream& out, std::ostream& err) {
+  if (!given.fit.tensile.empty()) return RunTensileFit(given, out, err);
   CheckMaterialName(given.fit.name);
   const std::vector<core::IndentationPoint> curve = ReadCurve(given.fit.curve);
   const std::vector<core::IndentationPoint> second = given.fit.fit_poisson

@@ -44,4 +44,9 @@ core::DispersionPasses DispersionNamed(const std::string& name);
 /// message meant for the user.
 core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body);
 
+/// Static experiments solve for an exact equilibrium, where both ways of staging the dispersion
+/// give the same forces; one-pass is a dynamics option (it lags one time step). Throws
+/// std::invalid_argument for "one-pass" (saying so rather than ignoring it) and unknown names.
+void CheckStaticDispersion(const std::string& name);
+
 }  // namespace msm_sim::lab

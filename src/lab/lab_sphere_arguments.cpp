@@ -31,15 +31,14 @@ void AddFitCommand(CLI::App* app, CommandLine* line) {
   FitArguments& fit = line->arguments.fit;
   CLI::App* command = line->fit = app->add_subcommand(
       "fit",
-      "the Young's modulus for which indent on the same block reproduces a measured curve of a "
-      "spherical probe (1-D search from Hertz's estimate); defaults: cubic, a spacing with 4 "
-      "nodes across the largest contact radius sqrt(R depth), nu 0.49");
+      "--indent: the Young's modulus for which indent on the same block reproduces a measured "
+      "curve of a spherical probe (1-D search from Hertz's estimate); defaults: cubic, a spacing "
+      "with 4 nodes across the largest contact radius sqrt(R depth), nu 0.49. --tensile: E and "
+      "the spring law (docs/physics.md 4.1) from a uniaxial tensile curve");
   command->add_option("--indent", fit.curve, "CSV of depth_m,force_N rows, depth past contact")
-      ->required()
       ->check(CLI::ExistingFile);
   AddModelOptions(command, line, Body::kFitBlock);
   AddSphereOptions(command, &line->arguments.contact);
-  command->get_option("--sphere-radius")->required();
   command->add_option("--speed", line->arguments.contact.speed, "the simulated probe's speed (m/s)")
       ->capture_default_str()
       ->check(Finite(false));
@@ -62,6 +61,7 @@ void AddFitCommand(CLI::App* app, CommandLine* line) {
   command->add_option("--yaml", fit.yaml, "write the fitted material as a materials.yaml entry");
   command->add_option("--name", fit.name, "the material's name in that entry")
       ->capture_default_str();
+  AddTensileOptions(command, line);
   command->add_flag("--json", line->arguments.json, "print one JSON object");
 }
 

@@ -69,4 +69,8 @@ std::string PlotIndentation(const std::string& indent_json, const std::string& p
   return RunPlotScript(kIndentationPlotScript, indent_json, png_path);
 }
 
+std::string PlotTensileFit(const std::string& fit_json, const std::string& png_path) {
+  return RunPlotScript(kTensilePlotScript, fit_json, png_path);
+}
+
 }  // namespace msm_sim::lab

@@ -12,4 +12,8 @@ std::string PlotPoissonSweep(const std::string& sweep_json, const std::string& p
 /// against depth, and their ratio.
 std::string PlotIndentation(const std::string& indent_json, const std::string& png_path);
 
+/// The same for `msm_lab fit --tensile`'s object with its "curve" rows: the measured and the
+/// model's stress against strain, and their difference.
+std::string PlotTensileFit(const std::string& fit_json, const std::string& png_path);
+
 }  // namespace msm_sim::lab
