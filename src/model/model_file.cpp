@@ -13,6 +13,7 @@
 
 #include "model/binary_file.h"
 #include "model/model_file_layout.h"
+#include "model/model_file_self_calibration.h"
 #include "msm_sim/model/model_builder.h"
 
 namespace msm_sim::core {
@@ -143,7 +144,8 @@ struct Header {
 std::uint64_t DescribedFileBytes(const Header& header) {
   return std::uint64_t{H::kBytes} + std::uint64_t{NodeLayout::kBytes} * header.nodes +
          std::uint64_t{SpringLayout::kBytes} * header.springs +
-         std::uint64_t{CorrectionLayout::kBytes} * header.corrections + kChecksumBytes;
+         std::uint64_t{CorrectionLayout::kBytes} * header.corrections +
+         model_file::SelfCalibrationBlockBytes(header.version) + kChecksumBytes;
 }
 
 // Checks magic, version and counts, in the order that gives the most useful message for a
@@ -164,9 +166,10 @@ Header ReadHeader(HashingFileReader& file, const std::string& path) {
   Header header;
   header.version = GetU32(record + H::kVersion);
   // Before the size checks: another version may lay out its header differently.
-  if (header.version != kModelFileVersion) {
+  if (header.version < kOldestModelFileVersion || header.version > kModelFileVersion) {
     Fail(path, "written by format version " + std::to_string(header.version) +
-                   ", this build reads version " + std::to_string(kModelFileVersion));
+                   ", this build reads versions " + std::to_string(kOldestModelFileVersion) +
+                   " to " + std::to_string(kModelFileVersion));
   }
   if (size < kMinFileBytes) Fail(path, Truncated(kMinFileBytes, size, true));
   file.Read(record + H::kNodeCount, H::kYoungsModulus - H::kNodeCount);
@@ -367,6 +370,7 @@ void SaveModel(const Model& model, const std::string& path) {
   WriteNodes(model, &out);
   WriteSprings(model, &out);
   WriteCorrections(model, &out);
+  model_file::WriteSelfCalibration(model, &out);
   out.Commit();
 }
 
@@ -384,6 +388,10 @@ Model LoadModel(const std::string& path) {
   ReadNodes(file, header, path, &builder);
   const std::vector<double> stored_rest_length = ReadSprings(file, header, path, &builder);
   ReadCorrections(file, header, path, &builder);
+  if (header.version >= model_file::kSelfCalibrationSinceVersion) {
+    builder.SetSelfCalibration(
+        model_file::ReadSelfCalibration(file, properties.dispersion_fraction, path));
+  }
   VerifyUnchanged(file, path);
   return Assemble(builder, properties, stored_rest_length, path);
 }

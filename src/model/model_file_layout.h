@@ -1,6 +1,7 @@
 #pragma once
-// Private to the model file code: format version 1 of msm_sim model files (model_file.h) as
-// named record layouts, checked at compile time to tile their records without gaps.
+// Private to the model file code: the records of msm_sim model files (model_file.h) that every
+// format version has, as named record layouts, checked at compile time to tile their records
+// without gaps.
 
 #include <array>
 #include <cstddef>
