@@ -92,6 +92,13 @@ RandomLatticeOptions RandomOptions(const BodyRecipe& recipe, double spacing) {
   options.spring_law = recipe.spring_law;
   options.stiffness_law = recipe.stiffness_law;
   options.self_calibrate = recipe.random_self_calibrate;
+  // A correction measured for the same conditions is the one a measurement would give (it is
+  // deterministic): reuse it.
+  if (recipe.random_self_calibrate && recipe.random_calibration &&
+      recipe.random_calibration->conditions ==
+          RandomSelfCalibrationConditions(recipe.material, options)) {
+    options.calibration = recipe.random_calibration;
+  }
   return options;
 }
 

@@ -191,6 +191,8 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
   ModelBuilder builder(material);
   builder.SetSpringLaw(options.spring_law);
   builder.SetDispersionFraction(q);
+  // A measured correction knows what it was measured for; the model keeps it.
+  if (calibration.measurements > 0) builder.SetSelfCalibration(calibration);
   for (const Eigen::Vector3d& p : points) builder.AddNode(p, node_mass);
 
   const std::vector<NodePair> pairs =

@@ -75,6 +75,24 @@ double NextLogRatio(const Reading& last, const Reading* previous, double target)
 
 }  // namespace
 
+SelfCalibrationConditions RandomSelfCalibrationConditions(const Material& material,
+                                                          const RandomLatticeOptions& options) {
+  SelfCalibrationConditions conditions;
+  conditions.lattice = SelfCalibrationConditions::kRandomLattice;
+  conditions.spacing = options.spacing;
+  conditions.poisson = material.poisson_ratio();
+  conditions.min_distance = options.min_distance;
+  conditions.max_distance = options.max_distance;
+  conditions.stiffness_law = options.stiffness_law == RandomStiffnessLaw::kUniform
+                                 ? SelfCalibrationConditions::kUniformStiffness
+                                 : SelfCalibrationConditions::kInverseSquareStiffness;
+  conditions.spring_law = options.spring_law;
+  conditions.isotropic_dispersion = options.isotropic_dispersion;
+  conditions.block_cells = options.calibration_block_cells;
+  conditions.seed = options.calibration_seed;
+  return conditions;
+}
+
 RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
                                                    const RandomLatticeOptions& options) {
   if (options.calibration_block_cells < 1) {
@@ -104,6 +122,7 @@ RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
   calibration.measured_youngs = last.youngs;
   calibration.measured_poisson = last.poisson;
   calibration.measurements = measurements;
+  calibration.conditions = RandomSelfCalibrationConditions(material, options);
   return calibration;
 }
 

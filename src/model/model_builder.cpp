@@ -85,6 +85,7 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
   }
   model.spring_law_ = spring_law_;
   model.dispersion_fraction_ = dispersion_fraction_;
+  model.self_calibration_ = self_calibration_;
   model.volume_ = volume;
   model.characteristic_length_ = characteristic_length;
   return model;

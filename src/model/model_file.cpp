@@ -13,6 +13,7 @@
 
 #include "model/binary_file.h"
 #include "model/model_file_layout.h"
+#include "model/model_file_self_calibration.h"
 #include "msm_sim/model/model_builder.h"
 
 namespace msm_sim::core {
@@ -142,9 +143,11 @@ struct Header {
 
 // The file size the header's counts describe. Counts are < 2^31, so this cannot overflow 64 bits.
 std::uint64_t DescribedFileBytes(const Header& header) {
-  return std::uint64_t{H::kBytes} + std::uint64_t{NodeLayout::kBytes} * header.nodes +
+  return std::uint64_t{H::kBytes} +
+         std::uint64_t{model_file::NodeRecordBytes(header.version)} * header.nodes +
          std::uint64_t{SpringLayout::kBytes} * header.springs +
-         std::uint64_t{CorrectionLayout::kBytes} * header.corrections + kChecksumBytes;
+         std::uint64_t{CorrectionLayout::kBytes} * header.corrections +
+         model_file::SelfCalibrationBlockBytes(header.version) + kChecksumBytes;
 }
 
 // Checks magic, version and counts, in the order that gives the most useful message for a
@@ -165,9 +168,10 @@ Header ReadHeader(HashingFileReader& file, const std::string& path) {
   Header header;
   header.version = GetU32(record + H::kVersion);
   // Before the size checks: another version may lay out its header differently.
-  if (header.version != kModelFileVersion) {
+  if (header.version < kOldestModelFileVersion || header.version > kModelFileVersion) {
     Fail(path, "written by format version " + std::to_string(header.version) +
-                   ", this build reads version " + std::to_string(kModelFileVersion));
+                   ", this build reads versions " + std::to_string(kOldestModelFileVersion) +
+                   " to " + std::to_string(kModelFileVersion));
   }
   if (size < kMinFileBytes) Fail(path, Truncated(kMinFileBytes, size, true));
   file.Read(record + H::kNodeCount, H::kYoungsModulus - H::kNodeCount);
@@ -251,12 +255,14 @@ void ReadNodes(HashingFileReader& file, const Header& header, const std::string&
                ModelBuilder* builder) {
   unsigned char record[NodeLayout::kBytes];
   for (std::uint32_t i = 0; i < header.nodes; ++i) {
-    file.Read(record, sizeof record);
+    file.Read(record, model_file::NodeRecordBytes(header.version));
     const unsigned char* position_bytes = record + NodeLayout::kPosition;
     const Eigen::Vector3d position(GetF64(position_bytes), GetF64(position_bytes + kF64Bytes),
                                    GetF64(position_bytes + 2 * kF64Bytes));
     const double mass = GetF64(record + NodeLayout::kMass);
-    const double inset = GetF64(record + NodeLayout::kSurfaceInset);
+    const double inset = header.version >= model_file::kSurfaceInsetSinceVersion
+                             ? GetF64(record + NodeLayout::kSurfaceInset)
+                             : 0.0;
     const std::string node = "node " + std::to_string(i);
     if (!position.allFinite()) Fail(path, node + " has a non-finite position");
     if (!Positive(mass)) Fail(path, node + " has mass " + Str(mass) + " (must be finite and > 0)");
@@ -369,6 +375,7 @@ void SaveModel(const Model& model, const std::string& path) {
   WriteNodes(model, &out);
   WriteSprings(model, &out);
   WriteCorrections(model, &out);
+  model_file::WriteSelfCalibration(model, &out);
   out.Commit();
 }
 
@@ -386,6 +393,10 @@ Model LoadModel(const std::string& path) {
   ReadNodes(file, header, path, &builder);
   const std::vector<double> stored_rest_length = ReadSprings(file, header, path, &builder);
   ReadCorrections(file, header, path, &builder);
+  if (header.version >= model_file::kSelfCalibrationSinceVersion) {
+    builder.SetSelfCalibration(
+        model_file::ReadSelfCalibration(file, properties.dispersion_fraction, path));
+  }
   VerifyUnchanged(file, path);
   return Assemble(builder, properties, stored_rest_length, path);
 }

@@ -1,6 +1,7 @@
 #pragma once
-// Private to the model file code: format version 2 of msm_sim model files (model_file.h) as
-// named record layouts, checked at compile time to tile their records without gaps.
+// Private to the model file code: the records of msm_sim model files (model_file.h) that every
+// format version has, as named record layouts, checked at compile time to tile their records
+// without gaps.
 
 #include <array>
 #include <cstddef>
@@ -47,9 +48,14 @@ struct HeaderLayout {
 struct NodeLayout {
   static constexpr std::size_t kPosition = 0;  // x, y, z
   static constexpr std::size_t kMass = 24;
-  static constexpr std::size_t kSurfaceInset = 32;
+  static constexpr std::size_t kSurfaceInset = 32;  // from kSurfaceInsetSinceVersion on
   static constexpr std::size_t kBytes = 40;
 };
+// Format version 1's node records end before the surface inset (its nodes have none).
+inline constexpr std::uint32_t kSurfaceInsetSinceVersion = 2;
+inline constexpr std::size_t NodeRecordBytes(std::uint32_t version) {
+  return version >= kSurfaceInsetSinceVersion ? NodeLayout::kBytes : NodeLayout::kSurfaceInset;
+}
 // Per spring: its two node indices (uint32), then stiffness, rest length and the two dispersion
 // weights (doubles).
 struct SpringLayout {
@@ -123,7 +129,7 @@ static_assert(
     "a correction record holds one Model correction element");
 
 // The smallest valid file: a header, one node (a Model has at least one) and the checksum.
-constexpr std::uint64_t kMinFileBytes = HeaderLayout::kBytes + NodeLayout::kBytes + kChecksumBytes;
+constexpr std::uint64_t kMinFileBytes = HeaderLayout::kBytes + NodeRecordBytes(1) + kChecksumBytes;
 // Node and spring indices are int32 in Model, so no count may exceed this.
 constexpr std::uint32_t kMaxCount = static_cast<std::uint32_t>(std::numeric_limits<int>::max());
 

@@ -8,6 +8,7 @@ Model TransformedModel(const Model& model, const Eigen::Isometry3d& pose) {
   ModelBuilder builder(model.material());
   builder.SetSpringLaw(model.spring_law());
   builder.SetDispersionFraction(model.dispersion_fraction());
+  builder.SetSelfCalibration(model.self_calibration());
   for (NodeIndex i = 0; i < model.num_nodes(); ++i) {
     builder.AddNode(pose * Eigen::Vector3d(model.rest_positions().col(i)), model.masses()[i],
                     model.surface_insets()[i]);

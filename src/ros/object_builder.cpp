@@ -61,8 +61,9 @@ ClampFace FaceOfClamp(const ObjectConfig& config, const ClampConfig& clamp, doub
 // The recipe of the object's model in its own frame. Cubic and random lattices fill the shape's
 // solid; Baudet's bricks fill the box [0, size] (the shape is a box), centred like the solid, and
 // a target node count divides the solid's volume whichever lattice fills it. Random lattices take
-// the recipe's minL 0.8, maxL 1.9 and inverse-square stiffness. A half-space clamp on a face of a
-// cubic box anchors that face (FaceOfClamp).
+// the recipe's minL 0.8, maxL 1.9 and inverse-square stiffness, and self-calibrate with
+// self_calibrate (docs/physics.md §2.2). A half-space clamp on a face of a cubic box anchors that
+// face (FaceOfClamp).
 core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& material,
                               std::shared_ptr<const core::SolidMesh> solid) {
   core::BodyRecipe recipe(material);
@@ -81,6 +82,7 @@ core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& 
   recipe.free_face_bending = config.free_face_bending;
   recipe.surface_dispersion = config.surface_dispersion;
   recipe.seed = config.seed;
+  recipe.random_self_calibrate = config.self_calibrate;
   for (const ClampConfig& clamp : config.clamps) {
     const ClampFace face = FaceOfClamp(config, clamp, core::RecipeSpacing(recipe));
     if (face.fit == FaceFit::kFace) recipe.anchored_planes.push_back(face.plane);
@@ -130,12 +132,13 @@ void AddClamps(const ObjectConfig& config, double spacing, const std::string& pa
 
 }  // namespace
 
-std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
-                                                    const core::Material& material) {
-  return PlacedModel(
-      config,
-      ObjectRecipe(config, material,
-                   std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape))));
+std::shared_ptr<const core::Model> BuildObjectModel(
+    const ObjectConfig& config, const core::Material& material,
+    const std::optional<core::SelfCalibration>& measured) {
+  core::BodyRecipe recipe = ObjectRecipe(
+      config, material, std::make_shared<const core::SolidMesh>(core::MakeBodySolid(config.shape)));
+  recipe.random_calibration = measured;
+  return PlacedModel(config, recipe);
 }
 
 BuiltObject BuildObject(const ObjectConfig& config, const std::string& path) {

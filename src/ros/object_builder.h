@@ -4,6 +4,7 @@
 // the way it builds every body), placed at the object's pose.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,8 +27,12 @@ struct BuiltObject {
 /// cannot be built (an unreadable or open mesh, a spacing that fits no node, an empty clamp).
 BuiltObject BuildObject(const ObjectConfig& config, const std::string& path);
 
-/// The model alone for another material (same nodes: ~set_material recalibrates in place).
-std::shared_ptr<const core::Model> BuildObjectModel(const ObjectConfig& config,
-                                                    const core::Material& material);
+/// The model alone for another material (same nodes: ~set_material recalibrates in place). A
+/// random object with self_calibrate reuses `measured` (the current model's
+/// Model::self_calibration) when it was measured for the same conditions, so that a new E alone
+/// measures nothing (docs/physics.md §2.2).
+std::shared_ptr<const core::Model> BuildObjectModel(
+    const ObjectConfig& config, const core::Material& material,
+    const std::optional<core::SelfCalibration>& measured = std::nullopt);
 
 }  // namespace msm_sim::ros_interface

@@ -39,6 +39,7 @@ const std::set<std::string> kObjectKeys = {"name",
                                            "free_face_bending",
                                            "surface_dispersion",
                                            "seed",
+                                           "self_calibrate",
                                            "material",
                                            "youngs",
                                            "poisson",
@@ -217,7 +218,7 @@ ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
 }
 
 // The lattice keys: model, spacing or target_nodes, spring law, anti-aliasing, the free faces'
-// bending, the outer layer's dispersion and the random seed.
+// bending, the outer layer's dispersion, the random seed and self-calibration.
 void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
   config->model = ReadLatticeKind(object, config->model, path);
   if (config->model == core::LatticeKind::kBaudet &&
@@ -246,6 +247,13 @@ void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig*
     Fail(path + "/surface_dispersion", "applies to cubic models only");
   }
   config->seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
+  // Read whatever the lattice, so that a bad value is refused wherever it is given.
+  const bool self_calibrate = Flag(object, "self_calibrate", kSelfCalibrateDefault, path);
+  if (Has(object, "self_calibrate") && self_calibrate &&
+      config->model != core::LatticeKind::kRandom) {
+    Fail(path + "/self_calibrate", "applies to random models only");
+  }
+  config->self_calibrate = self_calibrate && config->model == core::LatticeKind::kRandom;
 }
 
 // The dynamics keys: dampers, friction, restitution and the orientation barrier.

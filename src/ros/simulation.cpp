@@ -107,6 +107,11 @@ void Simulation::AddObject(std::size_t index) {
            object_config.name.c_str(), built.model->num_nodes(), built.model->num_springs(),
            built.model->masses().sum(), static_cast<int>(built.clamps.size()),
            world_.stable_time_step());
+  if (const auto& calibration = built.model->self_calibration()) {
+    ROS_INFO("msm_sim: object '%s' self-calibrated (docs/physics.md 2.2): k x %.4f, q %.4g",
+             object_config.name.c_str(), calibration->stiffness_factor,
+             calibration->dispersion_fraction);
+  }
   objects_.push_back(std::move(object));
 }
 
@@ -204,7 +209,8 @@ std::string Simulation::SetMaterial(const std::string& name, double youngs, doub
     config.density = density;
     config.damping = damping;
     config.friction = friction;
-    const std::shared_ptr<const core::Model> model = BuildObjectModel(config, material);
+    const std::shared_ptr<const core::Model> model =
+        BuildObjectModel(config, material, world_.model(object.body).self_calibration());
     core::StableTimeStepOptions stability;
     stability.damping_beta = damping;
     stability.safety = config_.world.time_step_safety;

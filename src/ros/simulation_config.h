@@ -45,6 +45,10 @@ inline constexpr double kMaxDensity = 1e5;
 /// (0, kMaxDensity], all finite); else why not, naming the quantity.
 std::string MaterialProblem(double youngs, double poisson, double density);
 
+/// objects[]/self_calibrate when a random object does not give it
+/// (docs/design/node-self-calibration.md).
+inline constexpr bool kSelfCalibrateDefault = false;
+
 struct ObjectConfig {
   std::string name;
   core::BodyShape shape;  ///< YAML shape: type box | sphere | cylinder | mesh (uri, scale)
@@ -57,7 +61,10 @@ struct ObjectConfig {
   bool free_face_bending = false;  ///< docs/physics.md §2.1; boxes of whole cells only
   /// docs/physics.md §7: the share of its eMSM bulk the outer node layer keeps, in (0, 1]
   double surface_dispersion = 1.0;
-  std::uint64_t seed = 1;                             ///< random models
+  std::uint64_t seed = 1;  ///< random models
+  /// Random models: correct k and q by a virtual measurement (docs/physics.md §2.2); the scene's
+  /// objects[]/self_calibrate, default kSelfCalibrateDefault. Ignored by other lattices.
+  bool self_calibrate = false;
   double youngs = 0.0, poisson = 0.0, density = 0.0;  ///< Pa, -, kg/m^3
   double damping = 0.0;                               ///< s, spring dampers c = damping k
   double friction = 0.5;                              ///< Coulomb coefficient of the surface

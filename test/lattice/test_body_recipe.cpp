@@ -191,6 +191,57 @@ TEST(BodyRecipe, RandomBoxIsBuildRandomLattice) {
   ExpectSameModel(BuildModel(defaults), BuildRandomLattice(kMaterial, with_max));
 }
 
+// A self-calibration measured before is applied without measuring when its conditions are the
+// recipe's (docs/physics.md §2.2), and the model keeps it; measured for other conditions it is
+// not used. The correction here is made up (factor 2), so that its use shows in the springs.
+TEST(BodyRecipe, RandomReusesASelfCalibrationMeasuredForItsConditions) {
+  BodyRecipe recipe(kMaterial);
+  recipe.lattice = LatticeKind::kRandom;
+  recipe.box_size = kBox;
+  recipe.spacing = 0.08;
+  RandomLatticeOptions options;
+  options.spacing = 0.08;
+  options.max_distance = recipe.random_max_distance;
+  RandomSelfCalibration made_up{2.0, 0.1, 9e4,
+                                0.3, 1,   RandomSelfCalibrationConditions(kMaterial, options)};
+  const Model plain = BuildModel(recipe);
+  EXPECT_FALSE(plain.self_calibration());
+
+  recipe.random_self_calibrate = true;
+  recipe.random_calibration = made_up;
+  const Model reused = BuildModel(recipe);
+  ASSERT_TRUE(reused.self_calibration());
+  EXPECT_EQ(reused.self_calibration()->stiffness_factor, 2.0);
+  EXPECT_TRUE(reused.self_calibration()->conditions == made_up.conditions);
+  EXPECT_EQ(reused.dispersion_fraction(), 0.1);
+  ASSERT_EQ(reused.num_springs(), plain.num_springs());
+  for (int s = 0; s < plain.num_springs(); ++s) {
+    EXPECT_NEAR(reused.spring_stiffness()[s], 2.0 * plain.spring_stiffness()[s],
+                1e-12 * plain.spring_stiffness()[s]);
+  }
+  // A translated copy keeps it, as the node's placed objects do.
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(1.0, 2.0, 3.0);
+  EXPECT_TRUE(TransformedModel(reused, pose).self_calibration());
+
+  // Without self_calibrate the recipe neither measures nor uses one.
+  BodyRecipe not_asked = recipe;
+  not_asked.random_self_calibrate = false;
+  const Model unasked = BuildModel(not_asked);
+  EXPECT_FALSE(unasked.self_calibration());
+  EXPECT_EQ(unasked.spring_stiffness(), plain.spring_stiffness());
+
+  // Measured for another nu: not this recipe's correction; the recipe measures its own (one
+  // measurement of the representative block).
+  BodyRecipe other_nu = recipe;
+  other_nu.random_calibration->conditions.poisson = 0.31;
+  const Model measured = BuildModel(other_nu);
+  ASSERT_TRUE(measured.self_calibration());
+  EXPECT_TRUE(measured.self_calibration()->conditions == made_up.conditions);
+  EXPECT_GT(measured.self_calibration()->measurements, 0);
+  EXPECT_NE(measured.self_calibration()->stiffness_factor, 2.0);
+}
+
 TEST(BodyRecipe, BaudetBoxIsBuildBaudetLatticeAndCentresOnRequest) {
   BodyRecipe recipe(kMaterial);
   recipe.lattice = LatticeKind::kBaudet;

@@ -36,7 +36,7 @@ namespace {
 
 using Bytes = std::vector<unsigned char>;
 
-// Layout of format version 2 (model_file.h), for crafting damaged files.
+// Layout of format versions 1 and 2 (model_file.h), for crafting damaged files.
 constexpr std::size_t kVersionOffset = 16;
 constexpr std::size_t kCountsOffset = 20;
 constexpr std::size_t kLawOffset = 32;
@@ -322,7 +322,8 @@ TEST_F(ModelFileTest, RejectsBadMagicAndOtherVersions) {
   Bytes newer = good;
   PutU32(&newer, kVersionOffset, 7);
   Reseal(&newer);
-  EXPECT_CONTAINS(LoadError(newer), "written by format version 7, this build reads version 2");
+  EXPECT_CONTAINS(LoadError(newer),
+                  "written by format version 7, this build reads versions 1 to 2");
 }
 
 TEST_F(ModelFileTest, EveryTruncationThrows) {

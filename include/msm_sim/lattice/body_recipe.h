@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,11 @@ struct BodyRecipe {
   /// Random: correct k and q by a virtual measurement of a representative block
   /// (RandomLatticeOptions::self_calibrate, docs/physics.md §2.2). Default off.
   bool random_self_calibrate = false;
+  /// Random with random_self_calibrate: a self-calibration measured before (Model::
+  /// self_calibration of a model built or loaded earlier). Applied without measuring when it was
+  /// measured for this recipe's conditions (RandomSelfCalibrationConditions); otherwise ignored
+  /// and the recipe measures its own. Default none.
+  std::optional<RandomSelfCalibration> random_calibration;
 };
 
 /// The spacing BuildModel uses: `spacing`, or with target_nodes > 0 cbrt(V / target_nodes) for

@@ -9,6 +9,7 @@
 #include "msm_sim/material/material.h"
 #include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
+#include "msm_sim/model/self_calibration.h"
 
 namespace msm_sim::core {
 
@@ -18,16 +19,9 @@ enum class RandomStiffnessLaw {
   kInverseSquare,  ///< k_i = c / L_i^2: every spring contributes equally to the moduli
 };
 
-/// The correction a random lattice's virtual measurement gives (docs/physics.md §2.2): every k
-/// is multiplied by stiffness_factor and the eMSM runs with dispersion_fraction instead of
-/// q(nu) = DispersionFraction(nu). The identity is {1, DispersionFraction(nu)}.
-struct RandomSelfCalibration {
-  double stiffness_factor = 1.0;     ///< > 0
-  double dispersion_fraction = 0.0;  ///< q actually used, > -1/2
-  double measured_youngs = 0.0;      ///< Pa, E of the representative block before the k scaling
-  double measured_poisson = 0.0;     ///< nu of the representative block at the final q
-  int measurements = 0;              ///< compression experiments it took
-};
+/// The correction a random lattice's virtual measurement gives, with what it was measured for
+/// (SelfCalibration, docs/physics.md §2.2).
+using RandomSelfCalibration = SelfCalibration;
 
 /// A box [0, size] filled by random sequential addition (thesis 2.3.3).
 struct RandomLatticeOptions {
@@ -54,17 +48,24 @@ struct RandomLatticeOptions {
   int calibration_block_cells = 16;
   std::uint64_t calibration_seed = 0x5e1fca1;  ///< differs from the body's seed on purpose
   /// A correction measured before (MeasureRandomSelfCalibration, or a cached one): applied as is,
-  /// nothing is measured. Takes precedence over self_calibrate.
+  /// nothing is measured. Takes precedence over self_calibrate. The caller answers for its
+  /// conditions (BodyRecipe::random_calibration compares them with the recipe's).
   std::optional<RandomSelfCalibration> calibration;
 };
+
+/// What a self-calibration for `options` is measured for (its size, seed, self_calibrate and
+/// calibration do not enter): lattice random, spacing, nu, minL, maxL, the stiffness and spring
+/// laws, isotropic_dispersion, calibration_block_cells and calibration_seed.
+SelfCalibrationConditions RandomSelfCalibrationConditions(const Material& material,
+                                                          const RandomLatticeOptions& options);
 
 /// Measures the self-calibration for `options` (its size, seed, self_calibrate and calibration
 /// are ignored): builds the representative block, compresses it at strain 1e-3
 /// (MeasureUniaxialCompression, the compression experiment's measurement), moves the dispersion
 /// ratio Q by secant steps until the measured nu is within 0.002 of the target (at most 2 steps,
-/// each changing 1 + Q by at most a factor 2), then sets stiffness_factor = E_target / E_measured.
-/// Deterministic. Throws as BuildRandomLattice, and std::runtime_error if a static solve does not
-/// converge.
+/// each changing 1 + Q by at most a factor 2), then sets stiffness_factor = E_target / E_measured
+/// and the conditions to RandomSelfCalibrationConditions(material, options). Deterministic.
+/// Throws as BuildRandomLattice, and std::runtime_error if a static solve does not converge.
 RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
                                                    const RandomLatticeOptions& options);
 
@@ -73,7 +74,8 @@ RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
 /// and stiffnesses scaled so that sum k_i L_i^2 = 15 V mu, a Cauchy solid with the target shear
 /// modulus, plus the eMSM dispersion q = Q(nu) / 2 (docs/physics.md §2-3; at nu = 1/4 this is the
 /// plain calibration (1 / (6V)) sum k_i L_i^2 = E). With options.calibration (or
-/// self_calibrate, which measures one first) the stiffnesses and q are corrected.
+/// self_calibrate, which measures one first) the stiffnesses and q are corrected, and the model
+/// keeps a measured correction (measurements > 0) as Model::self_calibration.
 ///
 /// Throws std::invalid_argument for bad options (non-positive sizes, spacing larger than the box,
 /// minL >= maxL, too many nodes) and std::runtime_error if random sequential addition cannot place

@@ -2,12 +2,14 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "msm_sim/material/material.h"
 #include "msm_sim/material/spring_law.h"
+#include "msm_sim/model/self_calibration.h"
 
 namespace msm_sim::core {
 
@@ -87,6 +89,9 @@ class Model {
   /// Characteristic node spacing ã (m): the lattice spacing of a cubic lattice or l = (V/N)^(1/3)
   /// of a random one. Measurements scale their probes with it (docs/physics.md §6).
   double characteristic_length() const { return characteristic_length_; }
+  /// The self-calibration the stiffnesses and q were corrected by (random lattices built with
+  /// one, docs/physics.md §2.2), with what it was measured for; empty for every other model.
+  const std::optional<SelfCalibration>& self_calibration() const { return self_calibration_; }
 
  private:
   friend class ModelBuilder;
@@ -110,6 +115,7 @@ class Model {
   double dispersion_fraction_ = 0.0;
   double volume_ = 0.0;
   double characteristic_length_ = 0.0;
+  std::optional<SelfCalibration> self_calibration_;
 };
 
 }  // namespace msm_sim::core

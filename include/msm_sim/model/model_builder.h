@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -45,6 +46,10 @@ class ModelBuilder {
   void SetSpringLaw(SpringLaw law) { spring_law_ = law; }
   /// eMSM dispersion fraction q; precondition: q > -1/2 (Q > -1).
   void SetDispersionFraction(double q) { dispersion_fraction_ = q; }
+  /// The self-calibration the model was corrected by (Model::self_calibration); default none.
+  void SetSelfCalibration(const std::optional<SelfCalibration>& calibration) {
+    self_calibration_ = calibration;
+  }
 
   int num_nodes() const { return static_cast<int>(masses_.size()); }
   int num_springs() const { return static_cast<int>(stiffness_.size()); }
@@ -57,6 +62,7 @@ class ModelBuilder {
   Material material_;
   SpringLaw spring_law_ = SpringLaw::kLinear;
   double dispersion_fraction_ = 0.0;
+  std::optional<SelfCalibration> self_calibration_;
   std::vector<Eigen::Vector3d> positions_;
   std::vector<double> masses_;
   std::vector<double> surface_insets_;

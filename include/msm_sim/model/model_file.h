@@ -25,13 +25,25 @@ namespace msm_sim::core {
 ///           40 S  per spring: uint32 node a, uint32 node b, double stiffness (N/m),
 ///                 rest length (m), dispersion weight at a, dispersion weight at b
 ///           56 C  per correction element: 12 x uint32 spring index, double coefficient (N/m)
+///           100   self-calibration block (version 2 on; Model::self_calibration), offsets
+///                 within the block: 0 uint32 present (0: none, the rest written 0; 1), 4 uint32
+///                 lattice code (1 random), 8 uint32 stiffness law (0 uniform, 1 inverse
+///                 square), 12 uint32 spring law code, 16 uint32 isotropic dispersion (0, 1),
+///                 20 uint32 representative block cells, 24 uint64 calibration seed, 32 double
+///                 spacing l (m), nu, minL / l, maxL / l, stiffness factor, dispersion fraction
+///                 (the model's q), measured E (Pa), measured nu, 96 uint32 measurements
 ///   end-8   8     uint64 FNV-1a 64 of every byte before it
+///
+/// Version 1 is version 2 without the surface insets (32-byte node records, read as insets of 0)
+/// and without the self-calibration block; LoadModel reads both.
 ///
 /// Rest lengths are derived from the node positions when the file is loaded; the stored ones only
 /// guard against a platform computing them differently.
 inline constexpr char kModelFileMagic[] = "\x89MSMSIMMODEL\r\n\x1a\n";
 inline constexpr int kModelFileMagicSize = 16;
 inline constexpr std::uint32_t kModelFileVersion = 2;
+/// The oldest format version LoadModel reads.
+inline constexpr std::uint32_t kOldestModelFileVersion = 1;
 
 /// Writes `model` to `path` in the format above. The file is written next to `path` under a
 /// temporary name and renamed over `path` only when complete and flushed to disk, so a crash or a
@@ -50,9 +62,10 @@ void SaveModel(const Model& model, const std::string& path);
 /// never crashes, hangs or allocates more memory than its own size warrants: counts are checked
 /// against the file size before anything is allocated and the checksum before any value is used.
 /// Throws std::runtime_error with one line naming `path` and the problem: cannot open, not a
-/// regular file, bad magic, unsupported format version, truncated or over-long, checksum
-/// mismatch, or an invalid value (index out of range, self-loop, non-finite or non-positive
-/// value, inadmissible material, rest length that does not match the node positions).
+/// regular file, bad magic, format version outside [kOldestModelFileVersion, kModelFileVersion],
+/// truncated or over-long, checksum mismatch, or an invalid value (index out of range, self-loop,
+/// non-finite or non-positive value, inadmissible material, rest length that does not match the
+/// node positions, a self-calibration block that is not one SaveModel writes).
 Model LoadModel(const std::string& path);
 
 }  // namespace msm_sim::core
