@@ -67,10 +67,15 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/dynamics/collider.cpp
   ${MSM_SIM_DIR}/src/dynamics/contact_point_average.cpp
   ${MSM_SIM_DIR}/src/dynamics/contact_wrench_average.cpp
+  ${MSM_SIM_DIR}/src/dynamics/collider_contacts.cpp
+  ${MSM_SIM_DIR}/src/dynamics/collider_entries.cpp
+  ${MSM_SIM_DIR}/src/dynamics/explicit_integrator.cpp
+  ${MSM_SIM_DIR}/src/dynamics/implicit_contact_holds.cpp
+  ${MSM_SIM_DIR}/src/dynamics/implicit_integrator.cpp
+  ${MSM_SIM_DIR}/src/dynamics/node_stages.cpp
+  ${MSM_SIM_DIR}/src/dynamics/pair_contacts.cpp
+  ${MSM_SIM_DIR}/src/dynamics/step_loop.cpp
+  ${MSM_SIM_DIR}/src/dynamics/step_rollback.cpp
   ${MSM_SIM_DIR}/src/dynamics/world.cpp
-  ${MSM_SIM_DIR}/src/dynamics/world_collider_entry.cpp
-  ${MSM_SIM_DIR}/src/dynamics/world_contacts.cpp
-  ${MSM_SIM_DIR}/src/dynamics/world_pair_contacts.cpp
-  ${MSM_SIM_DIR}/src/dynamics/world_implicit.cpp
-  ${MSM_SIM_DIR}/src/dynamics/world_step.cpp
+  ${MSM_SIM_DIR}/src/dynamics/world_body.cpp
 )

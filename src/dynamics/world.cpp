@@ -7,75 +7,26 @@
 #include <memory>
 #include <string>
 
+#include "dynamics/implicit_integrator.h"
+#include "dynamics/step_loop.h"
 #include "dynamics/world_internal.h"
-#include "msm_sim/mechanics/stable_time_step.h"
+#include "dynamics/world_state.h"
 
 namespace msm_sim::core {
 namespace {
 
+using internal::Body;
 using internal::Finite;
+using internal::Group;
+using internal::PendingResponse;
+using internal::Push;
 using internal::Require;
-
-// Nodes of one body collide only if they were at least this many longest springs apart at rest.
-constexpr double kSelfContactRestDistance = 2.5;
 
 }  // namespace
 
-World::Body::Body(const std::string& body_name, std::shared_ptr<const Model> body_model,
-                  const BodyOptions& body_options, const WorldOptions& world_options)
-    : name(body_name),
-      model(std::move(body_model)),
-      options(body_options),
-      state(State::AtRest(*model)),
-      evaluator(*model, body_options.dispersion, SpringKernels::kAuto, world_options.threads),
-      border(FindBorderNodes(*model)),
-      constrained(model->num_nodes(), 0),
-      inverse_masses(model->masses().cwiseInverse()),
-      forces(Eigen::Matrix3Xd::Zero(3, model->num_nodes())) {
-  const double longest = model->num_springs() > 0
-                             ? *std::max_element(model->spring_rest_length().begin(),
-                                                 model->spring_rest_length().end())
-                             : model->characteristic_length();
-  self_contact_rest_distance_sq = std::pow(kSelfContactRestDistance * longest, 2);
-  evaluator.set_precision(world_options.spring_precision);
-  if (body_options.orientation_threshold > 0.0) {
-    const double modulus = body_options.orientation_modulus > 0.0
-                               ? body_options.orientation_modulus
-                               : model->material().youngs_modulus();
-    evaluator.set_orientation_barrier(std::make_shared<const OrientationBarrier>(
-        *model, modulus, body_options.orientation_threshold));
-  }
-  UpdateStableStep(world_options);
-}
-
-void World::Body::UpdateStableStep(const WorldOptions& world_options) {
-  StableTimeStepOptions step;
-  step.damping_beta = options.damping_beta;
-  step.safety = world_options.time_step_safety;
-  step.fixed_nodes = ConstrainedNodes();
-  stable_step = StableTimeStep(*model, step);
-}
-
-std::vector<NodeIndex> World::Body::ConstrainedNodes() const {
-  std::vector<NodeIndex> nodes;
-  for (NodeIndex node = 0; node < static_cast<NodeIndex>(constrained.size()); ++node) {
-    if (constrained[node]) nodes.push_back(node);
-  }
-  return nodes;
-}
-
-void World::ImpulseSum::Merge(const ImpulseSum& other) {
-  impulse += other.impulse;
-  moment += other.moment;
-  weighted_point += other.weighted_point;
-  weight += other.weight;
-  count += other.count;
-  normal_impulses += other.normal_impulses;
-  normal_impulse += other.normal_impulse;
-  area_time += other.area_time;
-}
-
-World::World(const WorldOptions& options) : options_(options) {
+World::World(const WorldOptions& options)
+    : state_(std::make_unique<internal::WorldState>(options)),
+      step_loop_(std::make_unique<internal::StepLoop>(state_.get())) {
   Require(options.gravity.allFinite(), "gravity must be finite");
   Require(options.time_step_safety > 0.0 && options.time_step_safety <= 1.0,
           "time step safety must lie in (0, 1]");
@@ -114,12 +65,12 @@ int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
                    const BodyOptions& options) {
   Require(model != nullptr, "body '" + name + "' has no model");
   ValidateBodyOptions(name, options);
-  Body body(name, model, options, options_);
-  RequireIntegrable(body);
-  body.pair_friction.assign(colliders_.size(), -1.0);
-  body.wrenches.assign(colliders_.size(), ContactWrench{});
-  bodies_.push_back(std::move(body));
-  return static_cast<int>(bodies_.size()) - 1;
+  Body body(name, model, options, state_->options);
+  internal::RequireIntegrable(state_->options, body);
+  body.pair_friction.assign(state_->colliders.size(), -1.0);
+  body.wrenches.assign(state_->colliders.size(), ContactWrench{});
+  state_->bodies.push_back(std::move(body));
+  return static_cast<int>(state_->bodies.size()) - 1;
 }
 
 int World::AddCollider(const Collider& collider) {
@@ -130,21 +81,21 @@ int World::AddCollider(const Collider& collider) {
           "collider '" + collider.name + "': friction must be finite and >= 0");
   Require(collider.restitution >= 0.0 && collider.restitution <= 1.0,
           "collider '" + collider.name + "': restitution must lie in [0, 1]");
-  colliders_.push_back(collider);
-  for (Body& body : bodies_) {
+  state_->colliders.push_back(collider);
+  for (Body& body : state_->bodies) {
     body.pair_friction.push_back(-1.0);
     // Wrenches are colliders first, then groups.
-    body.wrenches.insert(body.wrenches.begin() + colliders_.size() - 1, ContactWrench{});
+    body.wrenches.insert(body.wrenches.begin() + state_->colliders.size() - 1, ContactWrench{});
   }
-  return static_cast<int>(colliders_.size()) - 1;
+  return static_cast<int>(state_->colliders.size()) - 1;
 }
 
 int World::AddKinematicGroup(int body_index, const KinematicGroup& group) {
   Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
-  Body& body = bodies_[body_index];
+  Body& body = state_->bodies[body_index];
   Require(!group.nodes.empty(), "kinematic group '" + group.name + "' has no nodes");
   Group added{group, Eigen::Matrix3Xd(3, group.nodes.size()), Eigen::Isometry3d::Identity()};
-  const Eigen::Isometry3d pose = group.pose ? group.pose(time_) : added.initial_pose;
+  const Eigen::Isometry3d pose = group.pose ? group.pose(state_->time) : added.initial_pose;
   Require(pose.matrix().allFinite(), "kinematic group '" + group.name + "': pose not finite");
   // Check every index before changing anything.
   for (const NodeIndex node : group.nodes) {
@@ -163,7 +114,7 @@ int World::AddKinematicGroup(int body_index, const KinematicGroup& group) {
   body.wrenches.push_back(ContactWrench{});
   // Fixed and driven nodes are not integrated: they no longer limit the step (face anchors'
   // token masses would).
-  body.UpdateStableStep(options_);
+  body.UpdateStableStep(state_->options);
   return static_cast<int>(body.groups.size()) - 1;
 }
 
@@ -179,7 +130,7 @@ void World::ApplyWrench(int body_index, const Eigen::Vector3d& point, const Eige
           "force, torque and point must be finite");
   Require(radius >= 0.0 && Finite(radius), "force radius must be finite and >= 0");
   Require(duration >= 0.0 && Finite(duration), "force duration must be finite and >= 0");
-  const Body& body = bodies_[body_index];
+  const Body& body = state_->bodies[body_index];
   const Eigen::Matrix3Xd& x = body.state.positions;
   const Eigen::VectorXd& m = body.model->masses();
   Push push{{}, {}, duration};
@@ -208,20 +159,20 @@ void World::ApplyWrench(int body_index, const Eigen::Vector3d& point, const Eige
     if (lever_sq > 0.0) node_force += torque.cross(x.col(i) - point) / lever_sq;
     push.forces.push_back(node_force);
   }
-  bodies_[body_index].pushes.push_back(std::move(push));
+  state_->bodies[body_index].pushes.push_back(std::move(push));
 }
 
 void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
                          const BodyOptions& options) {
   Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
   Require(model != nullptr, "no model");
-  Body& old = bodies_[body_index];
+  Body& old = state_->bodies[body_index];
   ValidateBodyOptions(old.name, options);
   Require(model->num_nodes() == old.model->num_nodes(),
           "the new model has " + std::to_string(model->num_nodes()) + " nodes, the body " +
               std::to_string(old.model->num_nodes()));
-  Body body(old.name, model, options, options_);
-  RequireIntegrable(body);
+  Body body(old.name, model, options, state_->options);
+  internal::RequireIntegrable(state_->options, body);
   body.state = old.state;
   body.groups = old.groups;
   body.constrained = old.constrained;
@@ -229,26 +180,26 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
   body.pending = old.pending;
   body.pair_friction = old.pair_friction;
   body.wrenches = old.wrenches;
-  if (!body.groups.empty()) body.UpdateStableStep(options_);
-  bodies_[body_index] = std::move(body);
+  if (!body.groups.empty()) body.UpdateStableStep(state_->options);
+  state_->bodies[body_index] = std::move(body);
 }
 
 void World::SetPairFriction(int body, int collider, double friction) {
   Require(body >= 0 && body < num_bodies() && collider >= 0 && collider < num_colliders(),
           "no such body or collider");
   Require(friction >= 0.0 && Finite(friction), "friction must be finite and >= 0");
-  bodies_[body].pair_friction[collider] = friction;
+  state_->bodies[body].pair_friction[collider] = friction;
 }
 
 void World::SetThreads(int threads) {
   Require(threads >= 1, "threads must be >= 1");
-  options_.threads = threads;
-  for (Body& body : bodies_) body.evaluator.set_max_threads(threads);
+  state_->options.threads = threads;
+  for (Body& body : state_->bodies) body.evaluator.set_max_threads(threads);
 }
 
 void World::SetState(int body_index, const State& state) {
   Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
-  Body& body = bodies_[body_index];
+  Body& body = state_->bodies[body_index];
   Require(state.positions.cols() == body.model->num_nodes() &&
               state.velocities.cols() == body.model->num_nodes(),
           "state size does not match the model");
@@ -258,42 +209,8 @@ void World::SetState(int body_index, const State& state) {
   body.sliding_friction.resize(3, 0);  // a node put somewhere new has not been sliding
 }
 
-double World::stable_time_step() const {
-  double step = std::numeric_limits<double>::infinity();
-  for (const Body& body : bodies_) step = std::min(step, body.stable_step);
-  return step;
-}
-
-Eigen::Isometry3d World::GroupPose(const Group& group, double t) const {
-  return group.spec.pose ? group.spec.pose(t) : group.initial_pose;
-}
-
-void World::PlaceGroups(Body* body, double t) const {
-  PlaceGroupNodes(body, GroupPoses(*body, t), 0, body->model->num_nodes());
-}
-
-std::vector<Eigen::Isometry3d> World::GroupPoses(const Body& body, double t) const {
-  std::vector<Eigen::Isometry3d> poses;
-  poses.reserve(body.groups.size());
-  for (const Group& group : body.groups) poses.push_back(GroupPose(group, t));
-  return poses;
-}
-
-void World::PlaceGroupNodes(Body* body, const std::vector<Eigen::Isometry3d>& poses, int begin,
-                            int end) {
-  for (std::size_t g = 0; g < body->groups.size(); ++g) {
-    const Group& group = body->groups[g];
-    for (std::size_t k = 0; k < group.spec.nodes.size(); ++k) {
-      const NodeIndex node = group.spec.nodes[k];
-      if (node >= begin && node < end) {
-        body->state.positions.col(node) = poses[g] * Eigen::Vector3d(group.local.col(k));
-      }
-    }
-  }
-}
-
 Energies World::ComputeEnergies(int body_index) const {
-  const Body& body = bodies_.at(body_index);
+  const Body& body = state_->bodies.at(body_index);
   const Eigen::VectorXd& m = body.model->masses();
   Energies energies;
   // The pending restitution is part of the nodes' motion: between substeps a node that just hit
@@ -305,23 +222,49 @@ Energies World::ComputeEnergies(int body_index) const {
   energies.kinetic = 0.5 * velocities.colwise().squaredNorm().dot(m.transpose());
   energies.elastic = body.evaluator.ElasticEnergy(body.state.positions);
   energies.gravitational =
-      -(options_.gravity.transpose() * body.state.positions).dot(m.transpose());
+      -(state_->options.gravity.transpose() * body.state.positions).dot(m.transpose());
   return energies;
 }
 
 void World::Reset() {
-  for (Body& body : bodies_) {
+  for (Body& body : state_->bodies) {
     body.state = State::AtRest(*body.model);
     body.pending.clear();
     body.pushes.clear();
     body.implicit_dv.resize(3, 0);  // no warm start from before the reset
     body.sliding_friction.resize(3, 0);
-    PlaceGroups(&body, 0.0);
+    internal::PlaceGroups(&body, 0.0);
     std::fill(body.wrenches.begin(), body.wrenches.end(), ContactWrench{});
     body.contact_points.clear();
   }
-  time_ = 0.0;
-  substep_refinement_ = 1;  // the rest shape's stable step holds again
+  state_->time = 0.0;
+  state_->substep_refinement = 1;  // the rest shape's stable step holds again
+}
+
+World::~World() = default;
+World::World(World&&) noexcept = default;
+World& World::operator=(World&&) noexcept = default;
+
+StepReport World::Step(double dt) { return step_loop_->Step(dt); }
+double World::time() const { return state_->time; }
+int World::num_bodies() const { return static_cast<int>(state_->bodies.size()); }
+int World::num_colliders() const { return static_cast<int>(state_->colliders.size()); }
+const std::string& World::body_name(int body) const { return state_->bodies.at(body).name; }
+const Model& World::model(int body) const { return *state_->bodies.at(body).model; }
+const State& World::state(int body) const { return state_->bodies.at(body).state; }
+Collider& World::collider(int index) { return state_->colliders.at(index); }
+const Collider& World::collider(int index) const { return state_->colliders.at(index); }
+const BorderNodes& World::border(int body) const { return state_->bodies.at(body).border; }
+std::vector<NodeIndex> World::constrained_nodes(int body) const {
+  return state_->bodies.at(body).ConstrainedNodes();
+}
+double World::stable_time_step() const { return state_->StableTimeStep(); }
+int World::substep_refinement() const { return state_->substep_refinement; }
+const std::vector<ContactWrench>& World::wrenches(int body) const {
+  return state_->bodies.at(body).wrenches;
+}
+const std::vector<ContactPoint>& World::contact_points(int body) const {
+  return state_->bodies.at(body).contact_points;
 }
 
 }  // namespace msm_sim::core

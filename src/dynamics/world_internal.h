@@ -1,6 +1,6 @@
 #pragma once
-// Private to msm_sim's World (world.cpp, world_step.cpp): the argument checks its API and its Step
-// share.
+// Private to msm_sim's World (world.cpp, step_loop.cpp, implicit_integrator.cpp): the argument
+// checks its API and its stages share.
 
 #include <cmath>
 #include <stdexcept>

@@ -10,7 +10,7 @@
 #include "msm_sim/dynamics/integrator.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/lattice/body_recipe.h"
-#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::lab {

@@ -4,7 +4,7 @@
 
 namespace msm_sim::core {
 
-/// How World::Substep turns forces into velocities (docs/physics.md §7 and §7.1).
+/// How the World's substep turns forces into velocities (docs/physics.md §7 and §7.1).
 enum class Integrator {
   /// Position Verlet in substeps no longer than the stable step (conditionally stable).
   kExplicit,

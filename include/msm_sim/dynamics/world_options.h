@@ -79,12 +79,11 @@ struct WorldOptions {
   /// given thread count (and contacts, see cut_shares_at_contacts).
   int threads = 1;
   /// With threads > 1, a Step of a single explicit body (no kinematic groups, no self-collision)
-  /// in World::kSubstepsToCutAtContacts substeps or more cuts the body's node shares at equal
-  /// work, counting what the contact stage costs for the border nodes near a collider at the
-  /// Step's start (World::CutNodeSharesAtContacts; docs/physics.md §9): a block resting on the
-  /// ground keeps its contacts in its first share. The cut moves where the shares' float sums
-  /// meet, so results on several threads then depend, deterministically, on those contacts too.
-  /// false: equal shares always.
+  /// in 4 substeps or more cuts the body's node shares at equal work, counting what the contact
+  /// stage costs for the border nodes near a collider at the Step's start (docs/physics.md §9):
+  /// a block resting on the ground keeps its contacts in its first share. The cut moves where the
+  /// shares' float sums meet, so results on several threads then depend, deterministically, on
+  /// those contacts too. false: equal shares always.
   bool cut_shares_at_contacts = true;
   /// The arithmetic of each body's spring loops in the dynamics (ForceEvaluator::set_precision).
   /// kSingle (the default) runs cubic lattices' springs in single precision, for speed

@@ -3,7 +3,7 @@
 #include <memory>
 
 #include "msm_sim/dynamics/integrator.h"
-#include "msm_sim/mechanics/force_evaluator.h"
+#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {

@@ -1,15 +1,15 @@
-// Stages 5-6 of World::Substep for the colliders: detect the nodes' contacts with them, stop
-// every approach, leave the rebound pending for the next substep, recover overlaps (contacts
-// between nodes: world_pair_contacts.cpp).
-#include "msm_sim/dynamics/world.h"
+// Stages 5-6 of the substep for the colliders: detect the nodes' contacts with them, stop every
+// approach, leave the rebound pending for the next substep, recover overlaps (contacts between
+// nodes: pair_contacts.cpp).
+#include "dynamics/collider_contacts.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "dynamics/world_contact_stage.h"
+#include "dynamics/recovery_speed.h"
 
-namespace msm_sim::core {
+namespace msm_sim::core::internal {
 namespace {
 
 // A border node counts in a collider's contact patch while its collision sphere, enlarged by
@@ -40,39 +40,16 @@ constexpr double kRecoverySlop = 0.01;
 // there (before the end-position kick) and read no closer to the pressed force (after it).
 constexpr double kFrictionlessOverlap = 0.1;
 
-// The implicit kick also holds, speculatively, the nodes whose collision sphere is within this
-// many radii of touching a collider: in one long substep a node can cover more than its gap (a
-// pressed block whose indenter backs off a hair springs back through the indenter's face), and a
-// contact detected only once the sphere overlaps comes a substep late (docs/physics.md §7.1
-// "Speculative contacts"). Such a hold lets the node close its gap and no more; a node that
-// would not reach the surface has its hold released (it pulls).
-constexpr double kSpeculativeReach = 1.0;
-
-// ... but only a node that would pass the surface by more than this fraction of its radius
-// before the next detection: a resting node sinks g h^2 per substep, far less than this, which
-// the contact stage stops as before; holding those too made the realtime block's every step
-// solve twice (docs/design/integrator.md).
-constexpr double kSpeculativeSlop = 0.05;
-
-// Coulomb friction's velocity change for a node sliding at `sliding` (tangential, relative to the
-// collider) when it may change by at most `limit` (>= 0): against the sliding, never reversing
-// it. A sticking node (|sliding| <= limit) needs no square root or division, which were half of
-// a resting contact's response: its change is -sliding, exactly what -(|s| / |s|) s gave.
-Eigen::Vector3d CoulombFriction(const Eigen::Vector3d& sliding, double limit) {
-  const double slide_sq = sliding.squaredNorm();
-  if (slide_sq <= limit * limit) return -sliding;
-  return -(limit / std::sqrt(slide_sq)) * sliding;
-}
-
 }  // namespace
 
-double World::Friction(const Body& body, int collider) const {
+double ColliderContacts::Friction(const Body& body, int collider) const {
   const double pair = body.pair_friction[collider];
-  return pair >= 0.0 ? pair : std::sqrt(body.options.friction * colliders_[collider].friction);
+  return pair >= 0.0 ? pair
+                     : std::sqrt(body.options.friction * world_.colliders[collider].friction);
 }
 
-void World::CollideWithColliders(Body* body, int* microcollisions) {
-  if (colliders_.empty()) return;
+void ColliderContacts::CollideWithColliders(Body* body, int* microcollisions) {
+  if (world_.colliders.empty()) return;
   ContactStage stage = BeginContactStage(body);
   // Each node share takes the border nodes among its nodes (border nodes are in node order), on
   // its own thread, where the share's positions and velocities are in cache: the first share
@@ -87,7 +64,7 @@ void World::CollideWithColliders(Body* body, int* microcollisions) {
   EndContactStage(stage, body, microcollisions);
 }
 
-void World::CutNodeSharesAtContacts(Body* body, bool cut) const {
+void ColliderContacts::CutNodeSharesAtContacts(Body* body, bool cut) const {
   // The nodes the last contact stage found near a collider: a resting block's ground contacts
   // all fall in its first node share, whose thread then runs longer than the other's
   // (docs/design/threads-default.md).
@@ -98,11 +75,11 @@ void World::CutNodeSharesAtContacts(Body* body, bool cut) const {
   body->evaluator.CutNodeShares(busy, kContactWork);
 }
 
-World::ContactStage World::BeginContactStage(Body* body) const {
+ContactStage ColliderContacts::BeginContactStage(Body* body) const {
   ContactStage stage;
   stage.frames = FrameColliders();
-  stage.frictions.resize(colliders_.size());
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+  stage.frictions.resize(world_.colliders.size());
+  for (std::size_t c = 0; c < world_.colliders.size(); ++c) {
     stage.frictions[c] = Friction(*body, static_cast<int>(c));
   }
   body->near_collider.resize(body->border.nodes.size());
@@ -112,8 +89,8 @@ World::ContactStage World::BeginContactStage(Body* body) const {
   return stage;
 }
 
-void World::CollideShare(ContactStage* stage, Body* body, int share, int begin, int end,
-                         std::vector<PendingResponse>* first_pending) const {
+void ColliderContacts::CollideShare(ContactStage* stage, Body* body, int share, int begin, int end,
+                                    std::vector<PendingResponse>* first_pending) const {
   const std::vector<NodeIndex>& border = body->border.nodes;
   const auto k_begin = static_cast<std::size_t>(
       std::lower_bound(border.begin(), border.end(), begin) - border.begin());
@@ -131,7 +108,8 @@ void World::CollideShare(ContactStage* stage, Body* body, int share, int begin, 
   stage->counts[share] = records.microcollisions;
 }
 
-void World::EndContactStage(const ContactStage& stage, Body* body, int* microcollisions) {
+void ColliderContacts::EndContactStage(const ContactStage& stage, Body* body,
+                                       int* microcollisions) {
   for (std::size_t share = 1; share < stage.counts.size(); ++share) {
     const ShareRecords& own = body->share_records[share - 1];
     for (std::size_t w = 0; w < own.impulses.size(); ++w) body->impulses[w].Merge(own.impulses[w]);
@@ -144,11 +122,9 @@ void World::EndContactStage(const ContactStage& stage, Body* body, int* microcol
 // Flattened: the per-contact helpers it calls are inlined into the per-node loop, which GCC did
 // not do on its own (with the library's -fno-semantic-interposition); the gain:
 // docs/design/threads-default.md.
-__attribute__((flatten)) void World::CollideBorderNodes(const std::vector<ColliderFrame>& frames,
-                                                        const std::vector<double>& frictions,
-                                                        Body* body, std::size_t k_begin,
-                                                        std::size_t k_end,
-                                                        ContactRecords* records) const {
+__attribute__((flatten)) void ColliderContacts::CollideBorderNodes(
+    const std::vector<ColliderFrame>& frames, const std::vector<double>& frictions, Body* body,
+    std::size_t k_begin, std::size_t k_end, ContactRecords* records) const {
   FlagNodesNearColliders(frames, body, k_begin, k_end);
   std::vector<NodeContact> contacts;
   for (std::size_t k = k_begin; k < k_end; ++k) {
@@ -174,8 +150,8 @@ __attribute__((flatten)) void World::CollideBorderNodes(const std::vector<Collid
   }
 }
 
-void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body,
-                                   std::size_t k_begin, std::size_t k_end) const {
+void ColliderContacts::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Body* body,
+                                              std::size_t k_begin, std::size_t k_end) const {
   // One tight pass per collider over the border nodes: most of them are far from every
   // collider (a resting block's sides and top), and rejecting them node by node inside
   // DetectColliderContacts was most of the detection's cost.
@@ -184,8 +160,8 @@ void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Bod
   const NodeIndex* nodes = body->border.nodes.data();
   const double* radii = body->border.radii.data();
   const double* x = body->state.positions.data();
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
-    if (!colliders_[c].enabled) continue;
+  for (std::size_t c = 0; c < world_.colliders.size(); ++c) {
+    if (!world_.colliders[c].enabled) continue;
     const ColliderFrame& frame = frames[c];
     // The frame's values in locals: read through the frame in the loop, GCC loaded them again
     // for every node (a char store may alias anything).
@@ -212,11 +188,13 @@ void World::FlagNodesNearColliders(const std::vector<ColliderFrame>& frames, Bod
   }
 }
 
-void World::CountInPatches(const Body& body, std::size_t k, std::vector<NodeContact>* contacts,
-                           ContactRecords* records) const {
+void ColliderContacts::CountInPatches(const Body& body, std::size_t k,
+                                      std::vector<NodeContact>* contacts,
+                                      ContactRecords* records) const {
   const double radius = body.border.radii[k];
   for (const NodeContact& contact : *contacts) {
-    (*records->impulses)[contact.collider].area_time += body.border.surface_shares[k] * substep_;
+    (*records->impulses)[contact.collider].area_time +=
+        body.border.surface_shares[k] * world_.substep;
   }
   // Only the spheres that overlap collide.
   contacts->erase(std::remove_if(contacts->begin(), contacts->end(),
@@ -224,134 +202,49 @@ void World::CountInPatches(const Body& body, std::size_t k, std::vector<NodeCont
                   contacts->end());
 }
 
-std::vector<World::ContactNormal> World::DeepestColliderContacts(const Body& body, double h) const {
-  std::vector<ContactNormal> deepest;
-  if (colliders_.empty()) return deepest;
-  const std::vector<ColliderFrame> frames = FrameColliders();
-  std::vector<NodeContact> contacts;
-  for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
-    const NodeIndex node = body.border.nodes[k];
-    if (body.constrained[node]) continue;
-    const Eigen::Vector3d x = body.state.positions.col(node);
-    const double radius = body.border.radii[k];
-    DetectColliderContacts(frames, x, (1.0 + kSpeculativeReach) * radius, &contacts);
-    if (contacts.empty()) continue;
-    // The signed distance of x from the collider's surface along its normal: least is deepest.
-    const auto depth = [&x](const NodeContact& a) { return (x - a.point).dot(a.normal); };
-    const NodeContact& best = *std::min_element(
-        contacts.begin(), contacts.end(),
-        [&depth](const NodeContact& a, const NodeContact& b) { return depth(a) < depth(b); });
-    const double closing_speed = std::max(best.distance - radius, 0.0) / h;
-    const double approach =
-        -(Eigen::Vector3d(body.state.velocities.col(node)) - best.velocity).dot(best.normal);
-    const double friction = Friction(body, best.collider);
-    // A contact starts stuck unless its node slid in the last kick: then it starts sliding
-    // with that Coulomb impulse, turned into the new tangent plane (the solve's passes correct
-    // either guess; a good one saves a pass).
-    FrictionHold hold = FrictionHold::kStuck;
-    Eigen::Vector3d sliding_impulse = Eigen::Vector3d::Zero();
-    if (!(friction > 0.0)) {
-      hold = FrictionHold::kSliding;
-    } else if (body.sliding_friction.cols() == body.model->num_nodes()) {
-      const Eigen::Vector3d last = body.sliding_friction.col(node);
-      const Eigen::Vector3d tangential = last - last.dot(best.normal) * best.normal;
-      if (tangential.norm() > 0.0) {
-        hold = FrictionHold::kSliding;
-        sliding_impulse = last.norm() * tangential.normalized();
-      }
-    }
-    deepest.push_back({node, best.normal, best.velocity, best.point, best.collider,
-                       std::max(approach - closing_speed, 0.0), friction, closing_speed,
-                       closing_speed + kSpeculativeSlop * radius / h, hold, sliding_impulse});
-  }
-  return deepest;
-}
-
-void World::RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
-                                  const Eigen::Matrix3Xd& residual) {
-  ContactRecords records = body->Records();
-  const int n = body->model->num_nodes();
-  if (body->sliding_friction.cols() != n) body->sliding_friction.resize(3, n);
-  body->sliding_friction.setZero();
-  for (const ContactNormal& contact : held) {
-    const Eigen::Vector3d impulse = -residual.col(contact.node);
-    const double normal = impulse.dot(contact.normal);
-    const double m = body->model->masses()[contact.node];
-    if (normal <= 0.0) continue;  // the last solve's hold pulled (a substep's stickiness)
-    const double e = std::min(colliders_[contact.collider].restitution, body->options.restitution);
-    // The rebound is e times the approach the hold stopped, not the impulse over m: that also
-    // pays for the stiffness coupling c K dv and would return elastic energy as speed.
-    const double rebound = e * contact.approach;
-    if (rebound > 0.0) body->pending.push_back({contact.node, rebound * contact.normal});
-    // The solve applied the friction of the stick or the slide (already in v); the rebound's
-    // friction, up to mu times it as in the contact stage, slows a sliding node further.
-    Eigen::Vector3d friction_impulse = impulse - normal * contact.normal;  // stuck: the hold's
-    if (contact.friction_hold == FrictionHold::kStuck) {
-      // Held beyond the cone by the last solve (the passes ran out): the next kick starts it
-      // sliding.
-      body->sliding_friction.col(contact.node) = SlidingImpulseOfStick(contact, impulse);
-    }
-    if (contact.friction_hold == FrictionHold::kSliding) {
-      auto v = body->state.velocities.col(contact.node);
-      const Eigen::Vector3d relative = v - contact.velocity;
-      const Eigen::Vector3d sliding = relative - relative.dot(contact.normal) * contact.normal;
-      const Eigen::Vector3d rebound_friction = CoulombFriction(sliding, contact.friction * rebound);
-      v += rebound_friction;
-      friction_impulse = contact.sliding_impulse + m * rebound_friction;
-      // The next kick starts from the Coulomb limit of this solve's normal impulse.
-      if (contact.friction > 0.0) {
-        body->sliding_friction.col(contact.node) =
-            contact.friction * normal * contact.sliding_impulse.normalized();
-      }
-    }
-    RecordColliderImpulse(&records, contact.node, contact.collider, contact.point, contact.normal,
-                          normal + m * rebound, -friction_impulse);
-    ++microcollisions_;
-  }
-}
-
-void World::RecordColliderImpulse(ContactRecords* records, NodeIndex node, int collider,
-                                  const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
-                                  double normal_impulse, const Eigen::Vector3d& tangential) const {
+void ColliderContacts::RecordColliderImpulse(ContactRecords* records, NodeIndex node, int collider,
+                                             const Eigen::Vector3d& point,
+                                             const Eigen::Vector3d& normal, double normal_impulse,
+                                             const Eigen::Vector3d& tangential) const {
   const Eigen::Vector3d on_collider = tangential - normal_impulse * normal;
   ImpulseSum& sum = (*records->impulses)[collider];
-  sum.Add(point, colliders_[collider].pose.translation(), on_collider);
+  sum.Add(point, world_.colliders[collider].pose.translation(), on_collider);
   sum.normal_impulses += normal_impulse * normal;
   sum.normal_impulse += normal_impulse;
-  if (options_.record_contact_points) {
+  if (world_.options.record_contact_points) {
     records->points->push_back(
-        {collider, node, substep_index_, point, normal, normal_impulse, tangential});
+        {collider, node, world_.substep_index, point, normal, normal_impulse, tangential});
   }
 }
 
-std::vector<World::ColliderFrame> World::FrameColliders() const {
-  std::vector<ColliderFrame> frames(colliders_.size());
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
+std::vector<ColliderFrame> ColliderContacts::FrameColliders() const {
+  std::vector<ColliderFrame> frames(world_.colliders.size());
+  for (std::size_t c = 0; c < world_.colliders.size(); ++c) {
     ColliderFrame& frame = frames[c];
-    frame.bounded = colliders_[c].shape.Bounds(&frame.lo, &frame.hi);
-    frame.inverse = colliders_[c].pose.inverse();
-    frame.moving =
-        !colliders_[c].linear_velocity.isZero(0.0) || !colliders_[c].angular_velocity.isZero(0.0);
+    frame.bounded = world_.colliders[c].shape.Bounds(&frame.lo, &frame.hi);
+    frame.inverse = world_.colliders[c].pose.inverse();
+    frame.moving = !world_.colliders[c].linear_velocity.isZero(0.0) ||
+                   !world_.colliders[c].angular_velocity.isZero(0.0);
     if (!frame.bounded) {
-      frame.plane_normal = colliders_[c].pose.linear().col(2);
-      frame.plane_offset = frame.plane_normal.dot(colliders_[c].pose.translation());
+      frame.plane_normal = world_.colliders[c].pose.linear().col(2);
+      frame.plane_offset = frame.plane_normal.dot(world_.colliders[c].pose.translation());
       continue;
     }
     const Eigen::AlignedBox3d local(frame.lo, frame.hi);
     for (int corner = 0; corner < 8; ++corner) {
-      frame.world_box.extend(colliders_[c].pose *
+      frame.world_box.extend(world_.colliders[c].pose *
                              local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(corner)));
     }
   }
   return frames;
 }
 
-void World::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
-                                   const Eigen::Vector3d& x, double radius,
-                                   std::vector<NodeContact>* contacts) const {
+void ColliderContacts::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
+                                              const Eigen::Vector3d& x, double radius,
+                                              std::vector<NodeContact>* contacts) const {
   contacts->clear();
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
-    if (!colliders_[c].enabled) continue;
+  for (std::size_t c = 0; c < world_.colliders.size(); ++c) {
+    if (!world_.colliders[c].enabled) continue;
     const ColliderFrame& frame = frames[c];
     if (!frame.bounded) {
       // A plane in the world frame directly: the general path below (into the plane's frame,
@@ -361,7 +254,7 @@ void World::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
       if (distance >= radius) continue;
       const Eigen::Vector3d point = x - distance * frame.plane_normal;
       contacts->push_back({static_cast<int>(c), frame.plane_normal, point,
-                           frame.VelocityAt(colliders_[c], point), distance});
+                           frame.VelocityAt(world_.colliders[c], point), distance});
       continue;
     }
     if ((x.array() < frame.world_box.min().array() - radius).any() ||
@@ -374,18 +267,19 @@ void World::DetectColliderContacts(const std::vector<ColliderFrame>& frames,
       continue;
     }
     Eigen::Vector3d normal, closest;
-    const double distance = colliders_[c].shape.SignedDistance(local, &normal, &closest);
+    const double distance = world_.colliders[c].shape.SignedDistance(local, &normal, &closest);
     if (distance >= radius) continue;
-    const Eigen::Vector3d point = colliders_[c].pose * closest;
-    contacts->push_back({static_cast<int>(c), colliders_[c].pose.linear() * normal, point,
-                         frame.VelocityAt(colliders_[c], point), distance});
+    const Eigen::Vector3d point = world_.colliders[c].pose * closest;
+    contacts->push_back({static_cast<int>(c), world_.colliders[c].pose.linear() * normal, point,
+                         frame.VelocityAt(world_.colliders[c], point), distance});
   }
 }
 
-void World::StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Vector3d* v) const {
+void ColliderContacts::StopColliderApproaches(std::vector<NodeContact>* contacts,
+                                              Eigen::Vector3d* v) const {
   // Gauss-Seidel: a node touching several surfaces at once (a wedge, a gripper) must end
   // approaching none of them.
-  for (int sweep = 0; sweep < options_.contact_iterations; ++sweep) {
+  for (int sweep = 0; sweep < world_.options.contact_iterations; ++sweep) {
     bool approaching = false;
     for (NodeContact& contact : *contacts) {
       const double vn = (*v - contact.velocity).dot(contact.normal);
@@ -399,10 +293,10 @@ void World::StopColliderApproaches(std::vector<NodeContact>* contacts, Eigen::Ve
   }
 }
 
-void World::RespondToColliderContact(const Body& body, NodeIndex node, const NodeContact& contact,
-                                     double friction, Eigen::Vector3d* v,
-                                     ContactRecords* records) const {
-  const Collider& collider = colliders_[contact.collider];
+void ColliderContacts::RespondToColliderContact(const Body& body, NodeIndex node,
+                                                const NodeContact& contact, double friction,
+                                                Eigen::Vector3d* v, ContactRecords* records) const {
+  const Collider& collider = world_.colliders[contact.collider];
   const double e = std::min(collider.restitution, body.options.restitution);
   // Friction: up to mu times this contact's normal velocity change, against the sliding
   // velocity, never reversing it.
@@ -421,13 +315,8 @@ void World::RespondToColliderContact(const Body& body, NodeIndex node, const Nod
 
 // Penetration recovery (docs/physics.md §7.2): a position-level correction after the contact
 // stage, for nodes found deeper than their collision spheres allow.
-double World::RecoverySpeed(double depth) const {
-  if (depth <= 0.0) return 0.0;
-  return std::min(options_.penetration_max_speed, depth / options_.penetration_recovery_time);
-}
-
-void World::RecoverFromColliders(Body* body, NodeIndex node, double radius,
-                                 const std::vector<NodeContact>& contacts) const {
+void ColliderContacts::RecoverFromColliders(Body* body, NodeIndex node, double radius,
+                                            const std::vector<NodeContact>& contacts) const {
   // A pseudo-velocity: the part of the target separation speed the node's real velocity (after
   // the contact response) does not already give moves its position and nothing else, so the
   // correction never becomes kinetic energy. The springs it compresses push back in the next
@@ -435,11 +324,12 @@ void World::RecoverFromColliders(Body* body, NodeIndex node, double radius,
   const Eigen::Vector3d v = body->state.velocities.col(node);
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();
   for (const NodeContact& contact : contacts) {
-    const double target = RecoverySpeed(radius * (1.0 - kRecoverySlop) - contact.distance);
+    const double target =
+        RecoverySpeed(world_.options, radius * (1.0 - kRecoverySlop) - contact.distance);
     const double separating = (v - contact.velocity).dot(contact.normal);
-    if (target > separating) shift += (target - separating) * substep_ * contact.normal;
+    if (target > separating) shift += (target - separating) * world_.substep * contact.normal;
   }
   body->state.positions.col(node) += shift;
 }
 
-}  // namespace msm_sim::core
+}  // namespace msm_sim::core::internal

@@ -1,37 +1,25 @@
-// Stages 5-6 of World::Substep between border nodes (of two bodies, or of a folded one):
+// Stages 5-6 of the substep between border nodes (of two bodies, or of a folded one):
 // detect the touching pairs, stop every approach, leave the rebound pending, recover overlaps.
-#include "msm_sim/dynamics/world.h"
+#include "dynamics/pair_contacts.h"
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "dynamics/recovery_speed.h"
 #include "geometry/spatial_hash_grid.h"
 
-namespace msm_sim::core {
+namespace msm_sim::core::internal {
 namespace {
 
-// As for the colliders (world_contacts.cpp): the fraction of the pair's reach left overlapping,
+// As for the colliders (collider_contacts.cpp): the fraction of the pair's reach left overlapping,
 // and the overlap beyond which the pair is being recovered and is frictionless.
 constexpr double kPairRecoverySlop = 0.01;
 constexpr double kPairFrictionlessOverlap = 0.1;
 
 }  // namespace
 
-// A contact between two border nodes during a substep.
-struct World::PairContact {
-  Body* body_i;
-  NodeIndex i;
-  Body* body_j;
-  NodeIndex j;
-  Eigen::Vector3d normal;  // from j to i
-  double inverse_mass_i, inverse_mass_j, reduced_mass, restitution, friction;
-  double overlap;        // reach - distance (m, > 0)
-  double reach;          // sum of the collision radii (m)
-  double stopped = 0.0;  // normal impulse that stopped the approach
-};
-
-void World::CollideNodes(int* microcollisions) {
+void PairContacts::CollideNodes(int* microcollisions) {
   // Contacts first, then Gauss-Seidel sweeps over all of them: a node resting on several nodes
   // below it must end approaching none of them (a single pass left some approach, and a block
   // stacked on another sank into it within a second).
@@ -46,15 +34,15 @@ void World::CollideNodes(int* microcollisions) {
   RecoverFromPairs(pairs);
 }
 
-bool World::MayHaveTouchingPairs() const {
+bool PairContacts::MayHaveTouchingPairs() const {
   // Most scenes hold one body, or bodies apart: the spatial hash of every border node, rebuilt
   // each substep, is skipped when nothing can touch (docs/design/speed-against-bullet.md).
-  for (const Body& body : bodies_) {
+  for (const Body& body : world_.bodies) {
     if (body.options.self_collision) return true;
   }
-  if (bodies_.size() < 2) return false;
+  if (world_.bodies.size() < 2) return false;
   std::vector<Eigen::AlignedBox3d> boxes;
-  for (const Body& body : bodies_) {
+  for (const Body& body : world_.bodies) {
     Eigen::AlignedBox3d box;
     double reach = 0.0;
     for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
@@ -72,7 +60,7 @@ bool World::MayHaveTouchingPairs() const {
   return false;
 }
 
-std::vector<World::PairContact> World::FindTouchingPairs() {
+std::vector<PairContact> PairContacts::FindTouchingPairs() {
   if (!MayHaveTouchingPairs()) return {};
   struct Entry {
     int body;
@@ -81,35 +69,36 @@ std::vector<World::PairContact> World::FindTouchingPairs() {
   };
   std::vector<Entry> entries;
   double max_radius = 0.0;
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    for (std::size_t k = 0; k < bodies_[b].border.nodes.size(); ++k) {
-      entries.push_back(
-          {static_cast<int>(b), bodies_[b].border.nodes[k], bodies_[b].border.radii[k]});
-      max_radius = std::max(max_radius, bodies_[b].border.radii[k]);
+  for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
+    for (std::size_t k = 0; k < world_.bodies[b].border.nodes.size(); ++k) {
+      entries.push_back({static_cast<int>(b), world_.bodies[b].border.nodes[k],
+                         world_.bodies[b].border.radii[k]});
+      max_radius = std::max(max_radius, world_.bodies[b].border.radii[k]);
     }
   }
   if (entries.empty()) return {};  // a lone body without self-contact left above
   SpatialHashGrid grid(2.0 * max_radius);
   for (std::size_t e = 0; e < entries.size(); ++e) {
-    grid.Insert(static_cast<int>(e), bodies_[entries[e].body].state.positions.col(entries[e].node));
+    grid.Insert(static_cast<int>(e),
+                world_.bodies[entries[e].body].state.positions.col(entries[e].node));
   }
   std::vector<PairContact> pairs;
   for (std::size_t e = 0; e < entries.size(); ++e) {
     const Entry& first = entries[e];
-    Body& body_i = bodies_[first.body];
+    Body& body_i = world_.bodies[first.body];
     const Eigen::Vector3d xi = body_i.state.positions.col(first.node);
     grid.ForEachWithin(xi, first.radius + max_radius, [&](int other, const Eigen::Vector3d& xj) {
       if (other <= static_cast<int>(e)) return;  // each pair once
       const Entry& second = entries[other];
       if (first.body == second.body && !MayTouchItself(body_i, first.node, second.node)) return;
-      AddPairIfTouching(&body_i, first.node, &bodies_[second.body], second.node, xi - xj,
+      AddPairIfTouching(&body_i, first.node, &world_.bodies[second.body], second.node, xi - xj,
                         first.radius + second.radius, &pairs);
     });
   }
   return pairs;
 }
 
-bool World::MayTouchItself(const Body& body, NodeIndex i, NodeIndex j) {
+bool PairContacts::MayTouchItself(const Body& body, NodeIndex i, NodeIndex j) {
   // Self-contact is a fold bringing together parts of the body that were apart at rest. Nodes
   // near each other at rest (every spring-connected pair among them) only get close by
   // compressing the material between them, which the springs already resist; treating that as
@@ -119,9 +108,9 @@ bool World::MayTouchItself(const Body& body, NodeIndex i, NodeIndex j) {
   return (rest.col(i) - rest.col(j)).squaredNorm() >= body.self_contact_rest_distance_sq;
 }
 
-void World::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex j,
-                              const Eigen::Vector3d& d, double reach,
-                              std::vector<PairContact>* pairs) {
+void PairContacts::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex j,
+                                     const Eigen::Vector3d& d, double reach,
+                                     std::vector<PairContact>* pairs) {
   const double distance = d.norm();
   if (distance >= reach || distance == 0.0) return;
   // A constrained node acts as an infinite mass.
@@ -139,8 +128,8 @@ void World::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex
                     overlap, reach});
 }
 
-void World::StopPairApproaches(std::vector<PairContact>* pairs) const {
-  for (int sweep = 0; sweep < options_.contact_iterations; ++sweep) {
+void PairContacts::StopPairApproaches(std::vector<PairContact>* pairs) const {
+  for (int sweep = 0; sweep < world_.options.contact_iterations; ++sweep) {
     bool approaching = false;
     for (PairContact& pair : *pairs) {
       auto vi = pair.body_i->state.velocities.col(pair.i);
@@ -157,7 +146,7 @@ void World::StopPairApproaches(std::vector<PairContact>* pairs) const {
   }
 }
 
-void World::RespondToPairContact(const PairContact& pair) {
+void PairContacts::RespondToPairContact(const PairContact& pair) {
   auto vi = pair.body_i->state.velocities.col(pair.i);
   auto vj = pair.body_j->state.velocities.col(pair.j);
   // Friction up to mu times the pair's normal impulse, never reversing the sliding.
@@ -179,20 +168,21 @@ void World::RespondToPairContact(const PairContact& pair) {
 
 // Penetration recovery between nodes (docs/physics.md §7.2): the collider's position-level
 // correction, the pair's shift shared by inverse masses.
-void World::RecoverFromPairs(const std::vector<PairContact>& pairs) {
+void PairContacts::RecoverFromPairs(const std::vector<PairContact>& pairs) {
   // Summed per node first, then capped at the recovery's speed: a node pushed into another
   // body's lattice overlaps several of its nodes, and their shifts add up (applied pair by pair
   // they carried nodes out at several times the speed, and steps were rejected).
-  std::vector<Eigen::Matrix3Xd> shifts(bodies_.size());
+  std::vector<Eigen::Matrix3Xd> shifts(world_.bodies.size());
   bool any = false;
   for (const PairContact& pair : pairs) {
-    const double target = RecoverySpeed(pair.overlap - kPairRecoverySlop * pair.reach);
+    const double target =
+        RecoverySpeed(world_.options, pair.overlap - kPairRecoverySlop * pair.reach);
     const auto vi = pair.body_i->state.velocities.col(pair.i);
     const auto vj = pair.body_j->state.velocities.col(pair.j);
     const double separating = (vi - vj).dot(pair.normal);
     if (!(target > separating)) continue;
     const double per_inverse_mass =
-        (target - separating) * substep_ / (pair.inverse_mass_i + pair.inverse_mass_j);
+        (target - separating) * world_.substep / (pair.inverse_mass_i + pair.inverse_mass_j);
     ShiftOf(pair.body_i, &shifts).col(pair.i) +=
         per_inverse_mass * pair.inverse_mass_i * pair.normal;
     ShiftOf(pair.body_j, &shifts).col(pair.j) -=
@@ -200,21 +190,22 @@ void World::RecoverFromPairs(const std::vector<PairContact>& pairs) {
     any = true;
   }
   if (!any) return;
-  const double cap = options_.penetration_max_speed * substep_;
-  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+  const double cap = world_.options.penetration_max_speed * world_.substep;
+  for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
     Eigen::Matrix3Xd& shift = shifts[b];
     for (Eigen::Index node = 0; node < shift.cols(); ++node) {
       const double length = shift.col(node).norm();
       if (length > cap) shift.col(node) *= cap / length;
     }
-    if (shift.cols() > 0) bodies_[b].state.positions += shift;
+    if (shift.cols() > 0) world_.bodies[b].state.positions += shift;
   }
 }
 
-Eigen::Matrix3Xd& World::ShiftOf(const Body* body, std::vector<Eigen::Matrix3Xd>* shifts) const {
-  Eigen::Matrix3Xd& shift = (*shifts)[static_cast<std::size_t>(body - bodies_.data())];
+Eigen::Matrix3Xd& PairContacts::ShiftOf(const Body* body,
+                                        std::vector<Eigen::Matrix3Xd>* shifts) const {
+  Eigen::Matrix3Xd& shift = (*shifts)[static_cast<std::size_t>(body - world_.bodies.data())];
   if (shift.cols() == 0) shift.setZero(3, body->state.positions.cols());
   return shift;
 }
 
-}  // namespace msm_sim::core
+}  // namespace msm_sim::core::internal

@@ -2,14 +2,16 @@
 // physics.md §7.2, "A collider that appears inside a body"): it is moved back out of the body
 // until no collision sphere touches it and pressed back in, so the body meets it as it would a
 // press instead of having its nodes pushed out through whichever face is nearest.
+#include "dynamics/collider_entries.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
 
-#include "msm_sim/dynamics/world.h"
+#include "dynamics/recovery_speed.h"
 
-namespace msm_sim::core {
+namespace msm_sim::core::internal {
 namespace {
 
 // Sphere tracing gives up after this many steps (a collider that cannot be cleared along the
@@ -22,13 +24,13 @@ constexpr double kFinishedEntry = 1e-7;
 
 }  // namespace
 
-double World::DeepestBorderOverlap(const Collider& collider, const Eigen::Isometry3d& pose,
-                                   bool centres) const {
+double ColliderEntries::DeepestBorderOverlap(const Collider& collider,
+                                             const Eigen::Isometry3d& pose, bool centres) const {
   Eigen::Vector3d lo, hi;
   collider.shape.Bounds(&lo, &hi);
   const Eigen::Isometry3d inverse = pose.inverse();
   double deepest = -std::numeric_limits<double>::infinity();
-  for (const Body& body : bodies_) {
+  for (const Body& body : world_.bodies) {
     for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
       const double reach = centres ? 0.0 : body.border.radii[k];
       const Eigen::Vector3d local = inverse * body.state.positions.col(body.border.nodes[k]);
@@ -43,13 +45,13 @@ double World::DeepestBorderOverlap(const Collider& collider, const Eigen::Isomet
   return deepest;
 }
 
-Eigen::Vector3d World::WayOutOfBodies(const Collider& collider,
-                                      const Eigen::Isometry3d& pose) const {
+Eigen::Vector3d ColliderEntries::WayOutOfBodies(const Collider& collider,
+                                                const Eigen::Isometry3d& pose) const {
   // A border node's star is one-sided: the mean unit vector to its spring neighbours points
   // into its body, so minus its sum over the node centres inside the collider points out.
   const Eigen::Isometry3d inverse = pose.inverse();
   Eigen::Vector3d out = Eigen::Vector3d::Zero();
-  for (const Body& body : bodies_) {
+  for (const Body& body : world_.bodies) {
     const Model& model = *body.model;
     std::vector<char> inside(static_cast<std::size_t>(model.num_nodes()), 0);
     bool any = false;
@@ -77,15 +79,15 @@ Eigen::Vector3d World::WayOutOfBodies(const Collider& collider,
   return norm > 0.0 ? Eigen::Vector3d(out / norm) : Eigen::Vector3d::Zero();
 }
 
-double World::DistanceToClear(const Collider& collider, const Eigen::Isometry3d& pose,
-                              const Eigen::Vector3d& direction, double from) const {
+double ColliderEntries::DistanceToClear(const Collider& collider, const Eigen::Isometry3d& pose,
+                                        const Eigen::Vector3d& direction, double from) const {
   // Sphere tracing along the way out: moving the collider by w changes no node's signed
   // distance by more than w, so a step of the deepest overlap never passes the first clear
   // pose.
   Eigen::Vector3d lo, hi;
   collider.shape.Bounds(&lo, &hi);
   double largest_radius = 0.0;
-  for (const Body& body : bodies_) {
+  for (const Body& body : world_.bodies) {
     for (const double r : body.border.radii) largest_radius = std::max(largest_radius, r);
   }
   const double limit = from + (hi - lo).norm() + 2.0 * largest_radius;
@@ -100,16 +102,16 @@ double World::DistanceToClear(const Collider& collider, const Eigen::Isometry3d&
   return std::numeric_limits<double>::quiet_NaN();
 }
 
-std::vector<Eigen::Isometry3d> World::BeginColliderEntries(
-    double dt, const std::vector<Eigen::Isometry3d>& poses) {
+std::vector<Eigen::Isometry3d> ColliderEntries::Begin(double dt,
+                                                      const std::vector<Eigen::Isometry3d>& poses) {
   std::vector<Eigen::Isometry3d> entered = poses;
-  entries_.resize(colliders_.size());
-  for (std::size_t c = 0; c < colliders_.size(); ++c) {
-    Collider& collider = colliders_[c];
+  entries_.resize(world_.colliders.size());
+  for (std::size_t c = 0; c < world_.colliders.size(); ++c) {
+    Collider& collider = world_.colliders[c];
     ColliderEntry& entry = entries_[c];
     entry.user_velocity = collider.linear_velocity;
     Eigen::Vector3d lo, hi;
-    if (!collider.enabled || options_.penetration_max_speed <= 0.0 ||
+    if (!collider.enabled || world_.options.penetration_max_speed <= 0.0 ||
         !collider.shape.Bounds(&lo, &hi)) {
       entry.depth_after = 0.0;  // dropped, once the step is accepted
       continue;
@@ -130,7 +132,7 @@ std::vector<Eigen::Isometry3d> World::BeginColliderEntries(
     entry.depth_after = depth;
     if (depth <= 0.0) continue;
     // Pressed back in at the recovery's speed: min(max speed, depth / recovery time).
-    entry.depth_after = std::max(0.0, depth - dt * RecoverySpeed(depth));
+    entry.depth_after = std::max(0.0, depth - dt * RecoverySpeed(world_.options, depth));
     if (entry.depth_after < kFinishedEntry) entry.depth_after = 0.0;
     entered[c].pretranslate(depth * entry.direction);
     collider.linear_velocity += (entry.depth_after - depth) / dt * entry.direction;
@@ -138,12 +140,12 @@ std::vector<Eigen::Isometry3d> World::BeginColliderEntries(
   return entered;
 }
 
-void World::EndColliderEntries(bool accepted) {
+void ColliderEntries::End(bool accepted) {
   for (std::size_t c = 0; c < entries_.size(); ++c) {
     ColliderEntry& entry = entries_[c];
-    colliders_[c].linear_velocity = entry.user_velocity;
+    world_.colliders[c].linear_velocity = entry.user_velocity;
     if (accepted) entry.depth = entry.depth_after;
   }
 }
 
-}  // namespace msm_sim::core
+}  // namespace msm_sim::core::internal
