@@ -253,22 +253,18 @@ ModelProperties ReadProperties(HashingFileReader& file, const Header& header,
 
 void ReadNodes(HashingFileReader& file, const Header& header, const std::string& path,
                ModelBuilder* builder) {
-  unsigned char record[NodeLayout::kBytes];
+  unsigned char record[NodeLayout::kBytes] = {};  // a version-1 record leaves the inset 0
   for (std::uint32_t i = 0; i < header.nodes; ++i) {
     file.Read(record, model_file::NodeRecordBytes(header.version));
     const unsigned char* position_bytes = record + NodeLayout::kPosition;
     const Eigen::Vector3d position(GetF64(position_bytes), GetF64(position_bytes + kF64Bytes),
                                    GetF64(position_bytes + 2 * kF64Bytes));
     const double mass = GetF64(record + NodeLayout::kMass);
-    const double inset = header.version >= model_file::kSurfaceInsetSinceVersion
-                             ? GetF64(record + NodeLayout::kSurfaceInset)
-                             : 0.0;
+    const double inset = GetF64(record + NodeLayout::kSurfaceInset);
     const std::string node = "node " + std::to_string(i);
     if (!position.allFinite()) Fail(path, node + " has a non-finite position");
     if (!Positive(mass)) Fail(path, node + " has mass " + Str(mass) + " (must be finite and > 0)");
-    if (!(inset >= 0.0) || !std::isfinite(inset)) {
-      Fail(path, node + " has surface inset " + Str(inset) + " (must be finite and >= 0)");
-    }
+    if (!NonNegative(inset)) Fail(path, node + " has inset " + Str(inset) + " (must be >= 0)");
     builder->AddNode(position, mass, inset);  // cannot throw: its preconditions were checked
   }
 }

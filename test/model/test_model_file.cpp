@@ -387,7 +387,7 @@ TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 40 + 8, INFINITY); }),
                   "node 1 has a non-finite position");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 32, -1.0); }),
-                  "node 0 has surface inset -1");
+                  "node 0 has inset -1");
 
   const std::uint32_t a0 = GetU32(good, springs_offset);
   const std::uint32_t b0 = GetU32(good, springs_offset + 4);
