@@ -78,8 +78,6 @@ Collider Pad(const std::string& name, const Eigen::AlignedBox3d& body,
   return pad;
 }
 
-// One grasp over one World: the stages in order, each stepping the World and keeping the
-// figures every stage reports.
 // A pad's force control: side -1 is the left pad (facing +axis). Travel (m) is how far it has
 // closed; touch its travel when it first pressed; stiffness (N/m) 0 until the first crossing;
 // error (N) the force it lacked at the last step.
@@ -93,6 +91,8 @@ struct PadControl {
   int same_sign_steps = 0;  // consecutive steps whose error kept its sign
 };
 
+// One grasp over one World: the stages in order, each stepping the World and keeping the
+// figures every stage reports.
 class Grasp {
  public:
   Grasp(std::shared_ptr<const Model> model, const GraspExperimentOptions& options)
@@ -181,6 +181,7 @@ class Grasp {
     }
   }
 
+  // The stiffness estimate's first secant, doubling and halving (ControlSqueeze).
   void AdaptStiffness(double force, double error, PadControl* pad) const {
     const bool outside = std::abs(error) > kSqueezeTolerance * result_.target_force;
     pad->same_sign_steps = error * pad->error > 0.0 ? pad->same_sign_steps + 1 : 0;
