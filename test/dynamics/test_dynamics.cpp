@@ -117,13 +117,12 @@ BounceRecord BounceBallForTenSeconds(const WorldOptions& world_options, double s
 // it and give it back in the next ones (with e = 1 only; README "Dynamics"), so the per-step gain
 // is reported, not bounded.
 //
-// That the ball keeps bouncing is checked on its first three rebounds: they reach 0.85, 0.74
-// and 0.66 of the drop height in single and double precision alike (each impact leaves more
-// of the fall in vibration; with no sphere on the cut cells' slivers they fell to 0.36, 0.34 and
-// 0.15, docs/design/cut-cell-spheres.md). Later flights are chaotic: in some impacts of the
-// squashed ball a node comes within a few mm of the ground, far inside its collision radius, and
-// whether that happens turns on rounding, so the number of flights in 10 s (42 in single
-// precision, 50 in double) is printed, not tested.
+// That the ball keeps bouncing is checked on its first three rebounds, which the test prints
+// (each impact leaves more of the fall in vibration; removing the cut cells' slivers' spheres
+// halved them, docs/design/cut-cell-spheres.md). Later flights are chaotic: in some impacts of
+// the squashed ball a node comes within a few mm of the ground, far inside its collision radius,
+// and whether that happens turns on rounding, so the number of flights in 10 s is printed, not
+// tested.
 TEST(Energy, ElasticBallBouncingForTenSecondsKeepsItsEnergy) {
   for (const SpringPrecision precision : {SpringPrecision::kSingle, SpringPrecision::kDouble}) {
     WorldOptions options;

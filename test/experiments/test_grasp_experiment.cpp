@@ -136,12 +136,11 @@ TEST(GraspExperiment, NoFoldedCellsUnderAHardSqueeze) {
   EXPECT_LT(r.max_node_speed, 1.0);
 }
 
-// At 3 mm the lying cylinder's lattice has a row of cut cells whose nodes lie 1 mm outside its
-// surface under each pad (a sixth of their cell inside). Their collision spheres stood 3 mm
-// proud of the rest and carried the whole squeeze until the row buckled: the cylinder shot
-// 3.7 mm along its axis, the squeeze fell from 9.9 to 0.7 N with the pads still, and nodes
-// reached 2.6 m/s. With spheres reduced by half their cell's inset the squeeze spreads over the
-// contact (docs/physics.md §7).
+// At 3 mm the lying cylinder's lattice has a row of cut cells whose nodes lie outside its
+// surface under each pad. With full collision spheres that row stood proud of the rest, carried
+// the whole squeeze and buckled, shooting nodes out; with spheres reduced by half their cell's
+// inset the squeeze spreads over the contact (docs/physics.md §7; the trace is in
+// docs/design/cut-cell-spheres.md).
 TEST(GraspExperiment, NoSliverRowBucklesUnderAHardSqueeze) {
   const GraspExperimentResult r = Grasp("cylinder 4 x 6 cm, 3 mm, nu 0.49, outer layer 0.25",
                                         Object(LyingCylinder(0.02, 0.06), 0.003, 0.49, 0.25), 30.0);
