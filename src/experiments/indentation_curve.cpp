@@ -5,24 +5,15 @@
 #include <stdexcept>
 #include <string>
 
+#include "experiments/csv_fields.h"
+
 namespace msm_sim::core {
 namespace {
-
-std::string Trimmed(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r");
-  return text.substr(begin, end - begin + 1);
-}
 
 // The whole field as a number (strtod accepts "nan" and "inf", which are refused by the caller
 // with their own message); false when anything but a number is there.
 bool ParseNumber(const std::string& field, double* value) {
-  const std::string text = Trimmed(field);
-  if (text.empty()) return false;
-  char* end = nullptr;
-  *value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
+  return internal::ParseWholeNumber(internal::Trimmed(field), value);
 }
 
 [[noreturn]] void Refuse(int line, const std::string& what) {
@@ -43,9 +34,9 @@ IndentationPoint ParseRow(const std::string& row, int line, double previous_dept
   if (!std::isfinite(point.depth) || !std::isfinite(point.force)) {
     Refuse(line, "NaN or infinite value in '" + row + "'");
   }
-  if (point.depth < 0.0) Refuse(line, "negative depth " + Trimmed(row.substr(0, comma)));
+  if (point.depth < 0.0) Refuse(line, "negative depth " + internal::Trimmed(row.substr(0, comma)));
   if (previous_depth >= 0.0 && point.depth <= previous_depth) {
-    Refuse(line, "depth " + Trimmed(row.substr(0, comma)) +
+    Refuse(line, "depth " + internal::Trimmed(row.substr(0, comma)) +
                      " is not greater than the previous row's (depths must increase)");
   }
   return point;
@@ -58,7 +49,7 @@ std::vector<IndentationPoint> ReadIndentationCurve(std::istream& csv) {
   std::string row;
   bool first_content = true;
   for (int line = 1; std::getline(csv, row); ++line) {
-    const std::string text = Trimmed(row);
+    const std::string text = internal::Trimmed(row);
     if (text.empty() || text[0] == '#') continue;
     double ignored = 0.0;
     const bool header = first_content && !ParseNumber(text.substr(0, text.find(',')), &ignored);

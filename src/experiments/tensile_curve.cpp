@@ -9,15 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "experiments/csv_fields.h"
+
 namespace msm_sim::core {
 namespace {
 
-std::string Trimmed(const std::string& text) {
-  const auto begin = text.find_first_not_of(" \t\r\"");
-  if (begin == std::string::npos) return "";
-  const auto end = text.find_last_not_of(" \t\r\"");
-  return text.substr(begin, end - begin + 1);
-}
+// A field's blanks: spaces, tabs, carriage returns and the quotes some exports add.
+constexpr char kBlanks[] = " \t\r\"";
 
 std::string Lower(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -29,7 +27,7 @@ std::vector<std::string> Split(const std::string& line, char separator) {
   std::size_t start = 0;
   while (true) {
     const std::size_t end = line.find(separator, start);
-    fields.push_back(Trimmed(line.substr(start, end - start)));
+    fields.push_back(internal::Trimmed(line.substr(start, end - start), kBlanks));
     if (end == std::string::npos) return fields;
     start = end + 1;
   }
@@ -39,16 +37,9 @@ char SeparatorOf(const std::string& line) {
   return line.find(';') != std::string::npos ? ';' : ',';
 }
 
-bool ParseNumber(const std::string& text, double* value) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  *value = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
-}
-
 // A line with no content: blank, a comment, or separators only.
 bool Empty(const std::string& line) {
-  const std::string text = Trimmed(line);
+  const std::string text = internal::Trimmed(line, kBlanks);
   return text.empty() || text[0] == '#' || text.find_first_not_of(";, \t") == std::string::npos;
 }
 
@@ -58,7 +49,7 @@ std::optional<int> ColumnIn(const std::vector<std::string>& fields, const std::s
   double ignored = 0.0;
   if (index >= 0) {
     if (index < static_cast<int>(fields.size()) && !fields[index].empty() &&
-        !ParseNumber(fields[index], &ignored)) {
+        !internal::ParseWholeNumber(fields[index], &ignored)) {
       return index;
     }
     return std::nullopt;
@@ -152,16 +143,16 @@ TensilePoint ParseRow(const std::string& row, int line, const Layout& layout, do
   const std::vector<std::string> fields = Split(row, layout.separator);
   const int needed = std::max(layout.strain, layout.stress) + 1;
   if (static_cast<int>(fields.size()) < needed) {
-    Refuse(line,
-           "expected at least " + std::to_string(needed) + " fields, got '" + Trimmed(row) + "'");
+    Refuse(line, "expected at least " + std::to_string(needed) + " fields, got '" +
+                     internal::Trimmed(row, kBlanks) + "'");
   }
   TensilePoint point;
-  if (!ParseNumber(fields[layout.strain], &point.strain) ||
-      !ParseNumber(fields[layout.stress], &point.stress)) {
-    Refuse(line, "not a number in '" + Trimmed(row) + "'");
+  if (!internal::ParseWholeNumber(fields[layout.strain], &point.strain) ||
+      !internal::ParseWholeNumber(fields[layout.stress], &point.stress)) {
+    Refuse(line, "not a number in '" + internal::Trimmed(row, kBlanks) + "'");
   }
   if (!std::isfinite(point.strain) || !std::isfinite(point.stress)) {
-    Refuse(line, "NaN or infinite value in '" + Trimmed(row) + "'");
+    Refuse(line, "NaN or infinite value in '" + internal::Trimmed(row, kBlanks) + "'");
   }
   point.stress *= scale;
   return point;
