@@ -41,16 +41,12 @@ std::shared_ptr<const Model> RealtimeBlock(double spacing, double poisson,
 }
 
 // Arguments: spacing (um), nu (per mille), precision (0 double, 1 single), threads, surface
-// dispersion (per cent).
-void BM_RealtimeBlock(benchmark::State& state) {
-  const double spacing = state.range(0) * 1e-6;
-  const double poisson = state.range(1) * 1e-3;
-  const auto block = RealtimeBlock(spacing, poisson, state.range(4) * 1e-2);
-  RealtimeExperimentOptions options;
-  options.seconds = 0.1;
-  options.spring_precision =
-      state.range(2) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble;
-  options.threads = static_cast<int>(state.range(3));
+// dispersion (per cent), and for BM_RealtimeBlockImplicit the preconditioner (0 Jacobi, 1
+// multigrid).
+RealtimeExperimentResult RunRealtime(benchmark::State& state,
+                                     const RealtimeExperimentOptions& options) {
+  const auto block =
+      RealtimeBlock(state.range(0) * 1e-6, state.range(1) * 1e-3, state.range(4) * 1e-2);
   RealtimeExperimentResult result;
   for (auto _ : state) {
     result = RunRealtimeExperiment(block, options);
@@ -60,6 +56,17 @@ void BM_RealtimeBlock(benchmark::State& state) {
   state.counters["substeps"] = result.substeps;
   state.counters["real_time_factor"] = result.real_time_factor;
   state.counters["peak_force_N"] = result.peak_force;
+  state.counters["iterations_per_step"] = result.solver_iterations_per_step;
+  return result;
+}
+
+void BM_RealtimeBlock(benchmark::State& state) {
+  RealtimeExperimentOptions options;
+  options.seconds = 0.1;
+  options.spring_precision =
+      state.range(2) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble;
+  options.threads = static_cast<int>(state.range(3));
+  RunRealtime(state, options);
 }
 BENCHMARK(BM_RealtimeBlock)
     ->ArgNames({"spacing_um", "nu_permille", "single", "threads", "surface_pct"})
@@ -69,6 +76,27 @@ BENCHMARK(BM_RealtimeBlock)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
+
+// The implicit integrator (one 1 ms substep a step) on the same blocks. The multigrid is set up in
+// the first step, once per run: its cost is in the time (compare runs of different lengths to
+// separate it).
+void BM_RealtimeBlockImplicit(benchmark::State& state) {
+  RealtimeExperimentOptions options;
+  options.seconds = 0.1;
+  options.integrator = Integrator::kImplicit;
+  options.spring_precision =
+      state.range(2) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble;
+  options.threads = static_cast<int>(state.range(3));
+  options.implicit_preconditioner =
+      state.range(5) == 1 ? ImplicitPreconditioner::kMultigrid : ImplicitPreconditioner::kJacobi;
+  RunRealtime(state, options);
+}
+BENCHMARK(BM_RealtimeBlockImplicit)
+    ->ArgNames({"spacing_um", "nu_permille", "single", "threads", "surface_pct", "multigrid"})
+    ->ArgsProduct({{5000, 4000, 3000}, {250, 490}, {1}, {1}, {100}, {0, 1}})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
 
 }  // namespace
 }  // namespace msm_sim::core

@@ -7,6 +7,9 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/dynamics/integrator.h"
+#include "msm_sim/dynamics/world_options.h"
+
 namespace msm_sim::lab {
 
 /// Which model the lab builds, as given on the command line (SI units).
@@ -70,9 +73,12 @@ struct ContactArguments {
   /// indent: > 0, also start the sphere this far inside the block and hold it (m)
   double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
-  int threads = 1;                      ///< realtime: WorldOptions::threads
-  double time_step_safety = 0.8;        ///< realtime: WorldOptions::time_step_safety, (0, 1]
-  std::string precision = "single";     ///< single | double (WorldOptions::spring_precision)
+  /// jacobi | multigrid (WorldOptions::implicit_preconditioner)
+  std::string preconditioner =
+      core::ImplicitPreconditionerName(core::WorldOptions().implicit_preconditioner);
+  int threads = 1;                   ///< realtime: WorldOptions::threads
+  double time_step_safety = 0.8;     ///< realtime: WorldOptions::time_step_safety, (0, 1]
+  std::string precision = "single";  ///< single | double (WorldOptions::spring_precision)
 };
 
 /// `msm_lab fit`: the Young's modulus that reproduces a measured indentation curve.

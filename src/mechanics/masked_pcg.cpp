@@ -34,6 +34,19 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
                                const Eigen::Matrix3Xd& inverse_diagonal,
                                const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
                                Eigen::Matrix3Xd* residual) {
+  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range.
+  const NodeArrayPreconditioner diagonal = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z) {
+    *z = inverse_diagonal.cwiseProduct(r);
+    projection.Apply(z);
+  };
+  return SolveMaskedPcg(apply, b, projection, diagonal, options, x, residual);
+}
+
+MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
+                               const DofProjection& projection,
+                               const NodeArrayPreconditioner& precondition,
+                               const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
+                               Eigen::Matrix3Xd* residual) {
   MaskedPcgReport report;
   Eigen::Matrix3Xd product(3, x->cols());
   apply(*x, &product);
@@ -45,9 +58,8 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
   const double reference = std::max({free_b.norm(), r.norm(), options.reference_norm});
   const double threshold = options.relative_tolerance * reference;
   double r_norm = r.norm();
-  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range.
-  Eigen::Matrix3Xd z = inverse_diagonal.cwiseProduct(r);
-  projection.Apply(&z);
+  Eigen::Matrix3Xd z;
+  precondition(r, &z);
   Eigen::Matrix3Xd p = z;
   double rz = Dot(r, z);
   while (r_norm > threshold && report.iterations < options.max_iterations) {
@@ -61,8 +73,7 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
     projection.Apply(&r);
     r_norm = r.norm();
     ++report.iterations;
-    z = inverse_diagonal.cwiseProduct(r);
-    projection.Apply(&z);
+    precondition(r, &z);
     const double rz_next = Dot(r, z);
     p = z + (rz_next / rz) * p;
     rz = rz_next;

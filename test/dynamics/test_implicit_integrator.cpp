@@ -132,19 +132,24 @@ SettledPush PushAndSettle(const std::shared_ptr<const Model>& model,
 }
 
 // (a) A block clamped at its bottom layer, pushed down on top with 1 N, settles with 1 ms
-// implicit steps onto the static solver's deflection.
+// implicit steps onto the static solver's deflection, with either preconditioner.
 TEST(ImplicitIntegrator, ClampedBlockUnderPushSettlesToTheStaticDeflection) {
   for (const double poisson : {0.25, 0.49}) {
     const auto model = Block(Eigen::Vector3d(0.04, 0.04, 0.02), 0.005, poisson);
-    const SettledPush push = PushAndSettle(model, BottomLayer(*model), ImplicitOptions(1e-3));
-    std::printf(
-        "  nu %.2f, %d nodes: deflection %.5f mm, static %.5f mm (%+.3f %%), clamp "
-        "reaction %.4f N, %.1f CG iterations per 1 ms step (explicit substep %.1f us)\n",
-        poisson, model->num_nodes(), 1e3 * push.deflection, 1e3 * push.expected,
-        100 * (push.deflection / push.expected - 1), push.reaction, push.iterations_per_step,
-        1e6 * ExplicitStableStep(model, 1e-4));
-    EXPECT_NEAR(push.deflection / push.expected, 1.0, 0.01);
-    EXPECT_NEAR(push.reaction, -1.0, 0.01);  // the clamp holds the push
+    for (const ImplicitPreconditioner preconditioner :
+         {ImplicitPreconditioner::kJacobi, ImplicitPreconditioner::kMultigrid}) {
+      WorldOptions options = ImplicitOptions(1e-3);
+      options.implicit_preconditioner = preconditioner;
+      const SettledPush push = PushAndSettle(model, BottomLayer(*model), options);
+      std::printf(
+          "  nu %.2f, %d nodes, %s: deflection %.5f mm, static %.5f mm (%+.3f %%), clamp "
+          "reaction %.4f N, %.1f CG iterations per 1 ms step (explicit substep %.1f us)\n",
+          poisson, model->num_nodes(), ImplicitPreconditionerName(preconditioner),
+          1e3 * push.deflection, 1e3 * push.expected, 100 * (push.deflection / push.expected - 1),
+          push.reaction, push.iterations_per_step, 1e6 * ExplicitStableStep(model, 1e-4));
+      EXPECT_NEAR(push.deflection / push.expected, 1.0, 0.01);
+      EXPECT_NEAR(push.reaction, -1.0, 0.01);  // the clamp holds the push
+    }
   }
 }
 
@@ -320,26 +325,31 @@ TEST(ImplicitIntegrator, IndentationMatchesTheExplicitIntegratorWithAndWithoutFr
     options.friction = c.friction;
     const IndentationExperimentResult explicit_run = RunIndentationExperiment(model, options);
     options.integrator = Integrator::kImplicit;
-    const IndentationExperimentResult implicit_run = RunIndentationExperiment(model, options);
-    // The rows' depths differ by up to a step's travel (the first step that records a force
-    // starts each profile, and the implicit kick's speculative holds record it a step earlier):
-    // the explicit profile is read at the implicit rows' depths.
-    double worst = 0.0;
-    int compared = 0;
-    for (const IndentationSample& i : implicit_run.profile) {
-      if (i.depth < 1e-3 || i.depth > explicit_run.profile.back().depth) continue;
-      const double e = ProfileForceAt(explicit_run.profile, i.depth);
-      ASSERT_GT(e, 0.0);
-      worst = std::max(worst, std::abs(i.force / e - 1.0));
-      ++compared;
+    for (const ImplicitPreconditioner preconditioner :
+         {ImplicitPreconditioner::kJacobi, ImplicitPreconditioner::kMultigrid}) {
+      options.implicit_preconditioner = preconditioner;
+      const IndentationExperimentResult implicit_run = RunIndentationExperiment(model, options);
+      // The rows' depths differ by up to a step's travel (the first step that records a force
+      // starts each profile, and the implicit kick's speculative holds record it a step
+      // earlier): the explicit profile is read at the implicit rows' depths.
+      double worst = 0.0;
+      int compared = 0;
+      for (const IndentationSample& i : implicit_run.profile) {
+        if (i.depth < 1e-3 || i.depth > explicit_run.profile.back().depth) continue;
+        const double e = ProfileForceAt(explicit_run.profile, i.depth);
+        ASSERT_GT(e, 0.0);
+        worst = std::max(worst, std::abs(i.force / e - 1.0));
+        ++compared;
+      }
+      std::printf(
+          "  nu %.2f, friction %.1f, %d rows from 1 mm: implicit (%s) within %.2f %% of explicit "
+          "(%.3f / %.3f N at %.2f mm)\n",
+          c.poisson, c.friction, compared, ImplicitPreconditionerName(preconditioner), 100 * worst,
+          implicit_run.profile.back().force, explicit_run.profile.back().force,
+          1e3 * explicit_run.profile.back().depth);
+      EXPECT_GE(compared, 5);
+      EXPECT_LT(worst, 0.05);
     }
-    std::printf(
-        "  nu %.2f, friction %.1f, %d rows from 1 mm: implicit within %.2f %% of explicit "
-        "(%.3f / %.3f N at %.2f mm)\n",
-        c.poisson, c.friction, compared, 100 * worst, implicit_run.profile.back().force,
-        explicit_run.profile.back().force, 1e3 * explicit_run.profile.back().depth);
-    EXPECT_GE(compared, 5);
-    EXPECT_LT(worst, 0.05);
     if (c.poisson == 0.49 && c.friction > 0.0) {
       options.integrator = Integrator::kExplicit;
       options.time_step_safety = 0.4;
