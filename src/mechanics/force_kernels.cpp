@@ -1,8 +1,12 @@
-// The double run kernels of ForceEvaluator, a spring's arithmetic from spring_arithmetic.h.
-// Compiled with -fno-math-errno (CMakeLists.txt): std::sqrt may then become one SIMD instruction
-// instead of a call that sets errno, which lets the compiler vectorise the loops at all. Each run
-// is taken in two loops, one writing node a0 + i and one node a0 + offset + i, because a single
-// loop's two stores would overlap within a SIMD register whenever offset < the vector width.
+// The double run kernels of ForceEvaluator, and the entry points of the stiffness products in
+// both precisions. The loops that both precisions share (the plain pass's, the stiffness
+// products') are templates in spring_run_loops.h, a spring's arithmetic in spring_arithmetic.h;
+// the eMSM passes here are the double ones (the single ones store and recompute other things,
+// single_precision_kernels.h). Compiled with -fno-math-errno (CMakeLists.txt): std::sqrt may
+// then become one SIMD instruction instead of a call that sets errno, which lets the compiler
+// vectorise the loops at all. Each run's forces go to one force array in two loops, one writing
+// node a0 + i and one node a0 + offset + i, because a single loop's two stores would overlap
+// within a SIMD register whenever offset < the vector width.
 
 #include "mechanics/force_kernels.h"
 
@@ -10,75 +14,36 @@
 
 #include "mechanics/simd_clones.h"
 #include "mechanics/spring_arithmetic.h"
+#include "mechanics/spring_run_loops.h"
 
 namespace msm_sim::core {
 
 namespace {
 
-constexpr int kMax = SpringSchedule::kMaxRunLength;
-
-// A run's per-spring force vectors, applied to the a ends in the first loop and to the b ends
-// in the second.
-template <typename Real>
-struct RunForcesOf {
-  alignas(64) Real x[kMax];
-  alignas(64) Real y[kMax];
-  alignas(64) Real z[kMax];
-};
-using RunForces = RunForcesOf<double>;
-
-template <typename Real>
-inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run,
-                                                       const RunForcesOf<Real>& c, Real* x, Real* y,
-                                                       Real* z) {
-  Real* __restrict fx = x;
-  Real* __restrict fy = y;
-  Real* __restrict fz = z;
-  const int a0 = run.a0, b0 = run.a0 + run.offset, n = run.count;
-  for (int i = 0; i < n; ++i) {
-    fx[a0 + i] += c.x[i];
-    fy[a0 + i] += c.y[i];
-    fz[a0 + i] += c.z[i];
-  }
-  for (int i = 0; i < n; ++i) {
-    fx[b0 + i] -= c.x[i];
-    fy[b0 + i] -= c.y[i];
-    fz[b0 + i] -= c.z[i];
-  }
-}
+using RunForces = internal::RunScratch<double>;
 
 inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run, const RunForces& c,
                                                        const MutableNodeArrays& forces) {
-  ApplyToEnds<double>(run, c, forces.x, forces.y, forces.z);
+  internal::ApplyToEnds<double>(run, c, forces.x, forces.y, forces.z);
 }
 
-// One run's total tensions (the direct or outflow part from `tension`, plus dampers), stored and
-// turned into force vectors. `tension(i, r, &inverse_length)` returns spring first + i's tension
-// without the damper and sets 1 / L, given r = x_b - x_a.
-template <bool Damped, typename Tension>
-inline __attribute__((always_inline)) void RunTensions(const ScheduledSprings& springs,
-                                                       const SpringRun& run,
+// One run's total tensions from `tension`, stored and turned into force vectors in `c`, for
+// the eMSM second pass, whose tensions come from the first (the plain pass is SpringForcesAlongRun,
+// spring_run_loops.h). `tension(i, r, &inverse_length)` returns spring first + i's tension and
+// sets 1 / L, given r = x_b - x_a.
+template <typename Tension>
+inline __attribute__((always_inline)) void RunTensions(const SpringRun& run,
                                                        const NodeArrays& positions,
-                                                       const RunDamping& damping, Tension&& tension,
-                                                       double* __restrict total,
+                                                       Tension&& tension, double* __restrict total,
                                                        RunForces* __restrict c) {
   const double* __restrict px = positions.x + run.a0;
   const double* __restrict py = positions.y + run.a0;
   const double* __restrict pz = positions.z + run.a0;
-  const double* __restrict k = springs.stiffness + run.first;
   const int d = run.offset;
   for (int i = 0; i < run.count; ++i) {
     const double r[3] = {px[i + d] - px[i], py[i + d] - py[i], pz[i + d] - pz[i]};
     double inverse_length;
-    double t = tension(i, r, &inverse_length);
-    if constexpr (Damped) {
-      const double* __restrict vx = damping.velocities->x + run.a0;
-      const double* __restrict vy = damping.velocities->y + run.a0;
-      const double* __restrict vz = damping.velocities->z + run.a0;
-      const double rate = internal::StretchRate(vx[i + d] - vx[i], vy[i + d] - vy[i],
-                                                vz[i + d] - vz[i], r[0], r[1], r[2]);
-      t += internal::DamperTension(damping.beta * k[i], rate, inverse_length);
-    }
+    const double t = tension(i, r, &inverse_length);
     total[run.first + i] = t;
     const double scale = t * inverse_length;
     c->x[i] = scale * r[0];
@@ -123,21 +88,23 @@ inline __attribute__((always_inline)) void FusedRunTensions(const SpringRun& run
   }
 }
 
+// The plain pass: SpringForcesAlongRun in double, its force vectors applied to one force array run
+// by run.
 template <bool Damped>
 inline __attribute__((always_inline)) void PlainRunsImpl(
     const ScheduledSprings& springs, int run_begin, int run_end, const NodeArrays& positions,
     const RunDamping& damping, const MutableNodeArrays& forces, double* __restrict total) {
   RunForces c;
+  const NodeArrays none{nullptr, nullptr, nullptr};
+  const NodeArrays& v = Damped ? *damping.velocities : none;
   for (int r = run_begin; r < run_end; ++r) {
     const SpringRun& run = springs.runs[r];
-    const double* __restrict k = springs.stiffness + run.first;
-    const double* __restrict rest = springs.rest + run.first;
-    const auto tension = [&](int i, const double r[3], double* inverse_length) {
-      const double length = internal::SpringLength(r[0], r[1], r[2]);
-      *inverse_length = 1.0 / length;
-      return internal::ElasticTension(k[i], length, rest[i]);
-    };
-    RunTensions<Damped>(springs, run, positions, damping, tension, total, &c);
+    const int a0 = run.a0, f = run.first;
+    internal::SpringForcesAlongRun<double, Damped, false, internal::RunEnds::kScratch>(
+        run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
+        Damped ? v.x + a0 : nullptr, Damped ? v.y + a0 : nullptr, Damped ? v.z + a0 : nullptr,
+        damping.beta, nullptr, springs.stiffness + f, springs.rest + f, nullptr, nullptr, c.x, c.y,
+        c.z, nullptr, nullptr, nullptr, total + f);
     ApplyToEnds(run, c, forces);
   }
 }
@@ -166,7 +133,7 @@ inline __attribute__((always_inline)) void OutflowRunsImpl(
     if (run.offset >= kFusedMinOffset) {
       FusedRunTensions(run, positions, tension, total, forces);
     } else {
-      RunTensions<false>(springs, run, positions, RunDamping{nullptr, 0.0}, tension, total, &c);
+      RunTensions(run, positions, tension, total, &c);
       ApplyToEnds(run, c, forces);
     }
   }
@@ -206,7 +173,7 @@ template <bool Damped>
 inline __attribute__((always_inline)) void InflowRunsImpl(
     const ScheduledSprings& springs, int run_begin, int run_end, const NodeArrays& positions,
     const RunDamping& damping, double* tensions, double* inverse_lengths, double* accumulator) {
-  alignas(64) double elastic[kMax];
+  alignas(64) double elastic[internal::kMaxRunLength];
   const NodeArrays none{nullptr, nullptr, nullptr};
   const NodeArrays& v = Damped ? *damping.velocities : none;
   for (int r = run_begin; r < run_end; ++r) {
@@ -282,91 +249,16 @@ void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, 
   }
 }
 
-namespace {
-
-// One run of the direct stiffness product; node arrays start at the run's a0.
-template <typename Real>
-inline __attribute__((always_inline)) void StiffnessRun(
-    int n, int offset, const Real* __restrict k, const Real* __restrict ux,
-    const Real* __restrict uy, const Real* __restrict uz, const Real* __restrict geometric,
-    const Real* __restrict vx, const Real* __restrict vy, const Real* __restrict vz,
-    RunForcesOf<Real>* __restrict c, Real* __restrict rate) {
-  for (int i = 0; i < n; ++i) {
-    const Real dx = vx[i + offset] - vx[i];
-    const Real dy = vy[i + offset] - vy[i];
-    const Real dz = vz[i + offset] - vz[i];
-    const Real stretch = ux[i] * dx + uy[i] * dy + uz[i] * dz;
-    const Real along = k[i] * stretch - geometric[i] * stretch;
-    rate[i] = k[i] * stretch;
-    // K dv on node a: -(k (u.dv) u + (T / L)(dv - u (u.dv))); node b gets the opposite.
-    c->x[i] = -(along * ux[i] + geometric[i] * dx);
-    c->y[i] = -(along * uy[i] + geometric[i] * dy);
-    c->z[i] = -(along * uz[i] + geometric[i] * dz);
-  }
-}
-
-// The direct stiffness product over runs [run_begin, run_end) in Real: springs' k, inflows and
-// the linearisation (u, T / L) in schedule order; dv and out as x, y, z arrays;
-// accumulator_change (null: no dispersion) per node.
-template <typename Real>
-inline __attribute__((always_inline)) void StiffnessRunsOf(
-    const SpringRun* runs, int run_begin, int run_end, const Real* stiffness, const Real* inflow_a,
-    const Real* inflow_b, const Real* ux, const Real* uy, const Real* uz, const Real* geometric,
-    const Real* const dv[3], Real* const out[3], Real* accumulator_change) {
-  RunForcesOf<Real> c;
-  alignas(64) Real rate[kMax];
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = runs[r];
-    const int f = run.first;
-    StiffnessRun<Real>(run.count, run.offset, stiffness + f, ux + f, uy + f, uz + f, geometric + f,
-                       dv[0] + run.a0, dv[1] + run.a0, dv[2] + run.a0, &c, rate);
-    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
-    if (accumulator_change == nullptr) continue;
-    Real* __restrict ja = accumulator_change + run.a0;
-    Real* __restrict jb = ja + run.offset;
-    const Real* __restrict in_a = inflow_a + f;
-    const Real* __restrict in_b = inflow_b + f;
-    for (int i = 0; i < run.count; ++i) ja[i] += in_a[i] * rate[i];
-    for (int i = 0; i < run.count; ++i) jb[i] += in_b[i] * rate[i];
-  }
-}
-
-// The dispersed part, in Real: dg per node.
-template <typename Real>
-inline __attribute__((always_inline)) void DispersedStiffnessRunsOf(
-    const SpringRun* runs, int run_begin, int run_end, const Real* outflow_a, const Real* outflow_b,
-    const Real* ux, const Real* uy, const Real* uz, const Real* dg, Real* const out[3]) {
-  RunForcesOf<Real> c;
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = runs[r];
-    const Real* __restrict out_a = outflow_a + run.first;
-    const Real* __restrict out_b = outflow_b + run.first;
-    const Real* __restrict ga = dg + run.a0;
-    const Real* __restrict gb = ga + run.offset;
-    const Real* __restrict x = ux + run.first;
-    const Real* __restrict y = uy + run.first;
-    const Real* __restrict z = uz + run.first;
-    for (int i = 0; i < run.count; ++i) {
-      const Real change = out_a[i] * ga[i] + out_b[i] * gb[i];
-      c.x[i] = -change * x[i];
-      c.y[i] = -change * y[i];
-      c.z[i] = -change * z[i];
-    }
-    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
-  }
-}
-
-}  // namespace
-
 MSM_SIM_SIMD_CLONES
 void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                    const ScheduledLinearization& linearization, const NodeArrays& dv,
                    const MutableNodeArrays& out, double* accumulator_change) {
   const double* const from[3] = {dv.x, dv.y, dv.z};
   double* const to[3] = {out.x, out.y, out.z};
-  StiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.stiffness, springs.inflow_a,
-                          springs.inflow_b, linearization.ux, linearization.uy, linearization.uz,
-                          linearization.geometric, from, to, accumulator_change);
+  internal::StiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.stiffness,
+                                    springs.inflow_a, springs.inflow_b, linearization.ux,
+                                    linearization.uy, linearization.uz, linearization.geometric,
+                                    from, to, accumulator_change);
 }
 
 MSM_SIM_SIMD_CLONES
@@ -374,9 +266,9 @@ void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int 
                             const ScheduledLinearization& linearization, const double* dg,
                             const MutableNodeArrays& out) {
   double* const to[3] = {out.x, out.y, out.z};
-  DispersedStiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.outflow_a,
-                                   springs.outflow_b, linearization.ux, linearization.uy,
-                                   linearization.uz, dg, to);
+  internal::DispersedStiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.outflow_a,
+                                             springs.outflow_b, linearization.ux, linearization.uy,
+                                             linearization.uz, dg, to);
 }
 
 MSM_SIM_SIMD_CLONES
@@ -384,17 +276,18 @@ void SingleStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin,
                          const float* dv, long n, float* out, float* accumulator_change) {
   const float* const from[3] = {dv, dv + n, dv + 2 * n};
   float* const to[3] = {out, out + n, out + 2 * n};
-  StiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.stiffness, springs.inflow_a,
-                         springs.inflow_b, springs.ux, springs.uy, springs.uz, springs.geometric,
-                         from, to, accumulator_change);
+  internal::StiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.stiffness,
+                                   springs.inflow_a, springs.inflow_b, springs.ux, springs.uy,
+                                   springs.uz, springs.geometric, from, to, accumulator_change);
 }
 
 MSM_SIM_SIMD_CLONES
 void SingleDispersedStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin,
                                   int run_end, const float* dg, long n, float* out) {
   float* const to[3] = {out, out + n, out + 2 * n};
-  DispersedStiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.outflow_a,
-                                  springs.outflow_b, springs.ux, springs.uy, springs.uz, dg, to);
+  internal::DispersedStiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.outflow_a,
+                                            springs.outflow_b, springs.ux, springs.uy, springs.uz,
+                                            dg, to);
 }
 
 }  // namespace msm_sim::core

@@ -151,8 +151,9 @@ struct BlockArrays {
   float *fax, *fay, *faz, *fbx, *fby, *fbz, *ox, *oy, *oz;
 };
 
-// The plain pass, or the eMSM second pass when Dispersed, over block k (ForceRun's forces): the
-// a ends' sums over the block's offsets in registers, added once; the b ends' per offset.
+// The plain pass, or the eMSM second pass when Dispersed, over block k (SpringForcesAlongRun's
+// forces, spring_run_loops.h): the a ends' sums over the block's offsets in registers, added
+// once; the b ends' per offset.
 template <bool Damped, bool Dispersed, bool kInPlace>
 inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
                                                       const OffsetGroup& offsets,
@@ -167,7 +168,7 @@ inline __attribute__((always_inline)) void ForceBlock(int k, const float* slots,
     const int b = a + d;
     const Lanes rx = Load(m.px + b) - xa, ry = Load(m.py + b) - ya, rz = Load(m.pz + b) - za;
     const Lanes length = Sqrt(rx * rx + ry * ry + rz * rz);
-    const Lanes inverse_length = 1.0f / (length + 1e-30f);  // as InverseLength
+    const Lanes inverse_length = 1.0f / (length + 1e-30f);  // as InverseLength (float)
     const Lanes stiffness = Load(slots);
     Lanes t = ElasticTension(stiffness, length, Load(slots + kLanes));
     if constexpr (Dispersed) {

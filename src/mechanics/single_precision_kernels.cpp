@@ -1,7 +1,10 @@
-// The single-precision spring loops along the runs, the entry points that choose runs or blocks
-// (single_block_loops.h), and the layout conversions. Compiled with -fno-math-errno
-// (CMakeLists.txt), as force_kernels.cpp: std::sqrt then becomes one SIMD instruction, which
-// lets the loops vectorise. The schedule is built in single_precision_schedule.cpp.
+// The single-precision passes along the runs, the entry points that choose runs or blocks
+// (single_block_loops.h), and the layout conversions. The plain and second passes' loop along a
+// run is SpringForcesAlongRun (spring_run_loops.h), the one the double plain pass instantiates
+// too; the eMSM first pass's loop is this file's own, as it sums other terms than the double
+// one's (single_precision_kernels.h). Compiled with -fno-math-errno (CMakeLists.txt), as
+// force_kernels.cpp: std::sqrt then becomes one SIMD instruction, which lets the loops
+// vectorise. The schedule is built in single_precision_schedule.cpp.
 
 #include "mechanics/single_precision_kernels.h"
 
@@ -11,6 +14,7 @@
 #include "mechanics/simd_clones.h"
 #include "mechanics/single_block_loops.h"
 #include "mechanics/spring_arithmetic.h"
+#include "mechanics/spring_run_loops.h"
 
 // The block loops' 8-float lanes pass only through inlined helpers (single_block_loops.h,
 // spring_arithmetic.h), so GCC's note on their ABI applies nowhere in this file; it is emitted
@@ -20,42 +24,6 @@
 namespace msm_sim::core {
 
 namespace {
-
-// 1 / L, finite for a slot of zero length (see the header): its r is then 0, and so is its
-// force. The 1e-30 m leaves any length above 1e-22 m unchanged (it is below half its last
-// place); a select on L > 0, or std::max, would not vectorise (GCC keeps the comparison's
-// control flow, the division it guards may trap).
-inline __attribute__((always_inline)) float InverseLength(float length) {
-  return 1.0f / (length + 1e-30f);
-}
-
-// Adds slot i's force (sx, sy, sz) to its a end and subtracts it from its b end (arrays from the
-// run's a0 and a0 + offset).
-inline __attribute__((always_inline)) void ApplyToEnds(int i, float sx, float sy, float sz,
-                                                       float* __restrict fax, float* __restrict fay,
-                                                       float* __restrict faz, float* __restrict fbx,
-                                                       float* __restrict fby,
-                                                       float* __restrict fbz) {
-  fax[i] += sx;
-  fay[i] += sy;
-  faz[i] += sz;
-  fbx[i] -= sx;
-  fby[i] -= sy;
-  fbz[i] -= sz;
-}
-
-// The damper's tension beta k (v_b - v_a) . r / L of slot i, offset d, velocities from the
-// run's a0.
-inline __attribute__((always_inline)) float RunDamperTension(const float* __restrict vx,
-                                                             const float* __restrict vy,
-                                                             const float* __restrict vz, int i,
-                                                             int d, float rx, float ry, float rz,
-                                                             float beta_k, float inverse_length) {
-  // r as three scalars: an array passed by pointer is a memory object the loop cannot vectorise.
-  const float rate =
-      internal::StretchRate(vx[i + d] - vx[i], vy[i + d] - vy[i], vz[i + d] - vz[i], rx, ry, rz);
-  return internal::DamperTension(beta_k, rate, inverse_length);
-}
 
 // A node array from a run's a0, or null for none (no dampers, no dispersion).
 inline const float* From(const float* array, int a0) {
@@ -98,36 +66,9 @@ inline __attribute__((always_inline)) void InflowRun(
   }
 }
 
-// One run of the pass that applies the springs' forces, its pointers as restrict parameters
-// (as InflowRun): the plain pass, and the eMSM second pass when Dispersed, which adds the
-// dispersed tension o_a g_a + o_b g_b (o the end outflows v k L0, g from the run's a0). The second
-// pass recomputes L and 1 / L rather than reading them from the first: two stored arrays cost more
-// than the square root and the division (docs/physics.md §9). The b ends' forces start at node
-// a0 + d.
-template <bool Damped, bool Dispersed>
-inline __attribute__((always_inline)) void ForceRun(
-    int n, int d, const float* __restrict px, const float* __restrict py,
-    const float* __restrict pz, const float* __restrict vx, const float* __restrict vy,
-    const float* __restrict vz, float beta, const float* __restrict g, const float* __restrict k,
-    const float* __restrict rest, const float* __restrict outflow_a,
-    const float* __restrict outflow_b, float* __restrict fax, float* __restrict fay,
-    float* __restrict faz, float* __restrict fbx, float* __restrict fby, float* __restrict fbz) {
-#pragma omp simd
-  for (int i = 0; i < n; ++i) {
-    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float length = internal::SpringLength(rx, ry, rz);
-    const float inverse_length = InverseLength(length);
-    float t = internal::ElasticTension(k[i], length, rest[i]);
-    if constexpr (Dispersed)
-      t += internal::DispersedTension(outflow_a[i], g[i], outflow_b[i], g[i + d]);
-    if constexpr (Damped)
-      t += RunDamperTension(vx, vy, vz, i, d, rx, ry, rz, beta * k[i], inverse_length);
-    const float scale = t * inverse_length;
-    ApplyToEnds(i, scale * rx, scale * ry, scale * rz, fax, fay, faz, fbx, fby, fbz);
-  }
-}
-
-// The forces of the slots in `share`; Dispersed: by `g` per node (the eMSM second pass).
+// The forces of the slots in `share` along the runs; Dispersed: by `g` per node (the eMSM second
+// pass). The second pass recomputes L and 1 / L rather than reading them from the first: two
+// stored arrays cost more than the square root and the division (docs/physics.md §9).
 template <bool Damped, bool Dispersed>
 inline __attribute__((always_inline)) void ForcesImpl(
     const SinglePrecisionSprings& springs, const SingleShare& share,
@@ -137,14 +78,14 @@ inline __attribute__((always_inline)) void ForcesImpl(
   for (const SingleRun& run : springs.runs) {
     ForRunInShare(run, share, [&](int a, int count, bool beyond) {
       const int b = a + run.offset, f = run.first + (a - run.a0), end = share.limit;
-      ForceRun<Damped, Dispersed>(count, run.offset, positions.x + a, positions.y + a,
-                                  positions.z + a, From(v.x, a), From(v.y, a), From(v.z, a), beta,
-                                  From(g, a), springs.stiffness.data() + f, springs.rest.data() + f,
-                                  springs.outflow_a.data() + f, springs.outflow_b.data() + f,
-                                  forces.a.x + a, forces.a.y + a, forces.a.z + a,
-                                  BEnd(forces.b.x, overflow.x, b, end, beyond),
-                                  BEnd(forces.b.y, overflow.y, b, end, beyond),
-                                  BEnd(forces.b.z, overflow.z, b, end, beyond));
+      internal::SpringForcesAlongRun<float, Damped, Dispersed, internal::RunEnds::kBothEnds>(
+          count, run.offset, positions.x + a, positions.y + a, positions.z + a, From(v.x, a),
+          From(v.y, a), From(v.z, a), beta, From(g, a), springs.stiffness.data() + f,
+          springs.rest.data() + f, springs.outflow_a.data() + f, springs.outflow_b.data() + f,
+          forces.a.x + a, forces.a.y + a, forces.a.z + a,
+          BEnd(forces.b.x, overflow.x, b, end, beyond),
+          BEnd(forces.b.y, overflow.y, b, end, beyond),
+          BEnd(forces.b.z, overflow.z, b, end, beyond), nullptr);
     });
   }
 }

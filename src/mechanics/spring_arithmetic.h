@@ -2,9 +2,10 @@
 
 // A spring's arithmetic, written once for every scalar the kernels run in: double (the double
 // run kernels, force_kernels.cpp), float (the single run loops, single_precision_kernels.cpp) and
-// the single block loops' 8 float lanes (single_block_loops.h). For the kernels' files only:
-// inlined into their SIMD clones (simd_clones.h). The expressions fix the order of the
-// operations, so every caller rounds alike (docs/physics.md §9).
+// the single block loops' 8 float lanes (single_block_loops.h); the run loops both precisions
+// share are in spring_run_loops.h. For the kernels' files only: inlined into their SIMD clones
+// (simd_clones.h). The expressions fix the order of the operations, so every caller rounds alike
+// (docs/physics.md §9).
 
 #include <cmath>
 

@@ -1,0 +1,193 @@
+#pragma once
+
+// The spring loops along a run that both precisions share, each one template on the scalar:
+// SpringForcesAlongRun, the force pass of the double run kernels' plain MSM (force_kernels.cpp)
+// and of the single run loops' plain MSM and eMSM second pass (single_precision_kernels.cpp); and
+// the stiffness products StiffnessRunsOf and DispersedStiffnessRunsOf (force_kernels.cpp, for
+// double and float). For the kernels' files only: inlined into their SIMD clones
+// (simd_clones.h). What stays per precision in SpringForcesAlongRun is two small choices, 1 / L
+// (InverseLength) and where a spring's force goes (RunEnds).
+
+#include "mechanics/spring_arithmetic.h"
+#include "mechanics/spring_schedule.h"
+
+namespace msm_sim::core::internal {
+
+/// Longest run of the double schedule (SpringSchedule), whose runs the stiffness products of
+/// both precisions take: the length of a run's scratch.
+constexpr int kMaxRunLength = SpringSchedule::kMaxRunLength;
+
+/// 1 / L. The double kernels' springs are the model's, never of zero length (ForceEvaluator's
+/// precondition).
+inline __attribute__((always_inline)) double InverseLength(double length) { return 1.0 / length; }
+
+/// 1 / L in single precision, finite for a slot of zero length (a phantom between coinciding
+/// nodes, single_precision_kernels.h): its r is then 0, and so is its force. The 1e-30 m leaves
+/// any length above 1e-22 m unchanged (it is below half its last place); a select on L > 0, or
+/// std::max, would not vectorise (GCC keeps the comparison's control flow, the division it
+/// guards may trap).
+inline __attribute__((always_inline)) float InverseLength(float length) {
+  return 1.0f / (length + 1e-30f);
+}
+
+/// Where SpringForcesAlongRun puts spring i's force vector s (on its a end; the b end takes -s).
+enum class RunEnds {
+  /// Stores s at i in the first three arrays (a run's scratch) and the total tension at i in
+  /// `total`; the caller applies s to both ends afterwards. For ends in one force array, where
+  /// the two ends' stores of one SIMD loop would overlap whenever offset < the vector width.
+  kScratch,
+  /// Adds s at i to the first three arrays (the a ends) and subtracts it at i from the other
+  /// three (the b ends): two force arrays, so that one loop takes both ends at any offset.
+  kBothEnds,
+};
+
+/// Springs 0 .. n - 1 of a run, each joining nodes i and i + d of the node arrays (px .. vz
+/// from the run's a0; velocities read only when Damped): total tension k (L - L0), plus the
+/// dispersed tension o_a g_a + o_b g_b when Dispersed (o the end outflows v k L0, g per node from
+/// a0; docs/physics.md §3), plus the damper's beta k dL/dt when Damped (docs/physics.md §7);
+/// force t r / L on the a end, its opposite on the b end, put as `Ends` says. Per-spring arrays
+/// (k, rest, outflows, total) from the run's first spring. The pointers are restrict parameters
+/// because GCC trusts those: as restrict locals it kept a scalar fallback and took it.
+template <typename Real, bool Damped, bool Dispersed, RunEnds Ends>
+inline __attribute__((always_inline)) void SpringForcesAlongRun(
+    int n, int d, const Real* __restrict px, const Real* __restrict py, const Real* __restrict pz,
+    const Real* __restrict vx, const Real* __restrict vy, const Real* __restrict vz, Real beta,
+    const Real* __restrict g, const Real* __restrict k, const Real* __restrict rest,
+    const Real* __restrict outflow_a, const Real* __restrict outflow_b, Real* __restrict fax,
+    Real* __restrict fay, Real* __restrict faz, Real* __restrict fbx, Real* __restrict fby,
+    Real* __restrict fbz, Real* __restrict total) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    // r as three scalars: an array is a memory object the loop may not vectorise.
+    const Real rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+    const Real length = SpringLength(rx, ry, rz);
+    const Real inverse_length = InverseLength(length);
+    Real t = ElasticTension(k[i], length, rest[i]);
+    if constexpr (Dispersed) t += DispersedTension(outflow_a[i], g[i], outflow_b[i], g[i + d]);
+    if constexpr (Damped) {
+      const Real rate =
+          StretchRate(vx[i + d] - vx[i], vy[i + d] - vy[i], vz[i + d] - vz[i], rx, ry, rz);
+      t += DamperTension(beta * k[i], rate, inverse_length);
+    }
+    const Real scale = t * inverse_length;
+    const Real sx = scale * rx, sy = scale * ry, sz = scale * rz;
+    if constexpr (Ends == RunEnds::kScratch) {
+      total[i] = t;
+      fax[i] = sx;
+      fay[i] = sy;
+      faz[i] = sz;
+    } else {
+      fax[i] += sx;
+      fay[i] += sy;
+      faz[i] += sz;
+      fbx[i] -= sx;
+      fby[i] -= sy;
+      fbz[i] -= sz;
+    }
+  }
+}
+
+/// A run's per-spring force vectors (SpringForcesAlongRun's RunEnds::kScratch, the stiffness
+/// products), which ApplyToEnds applies to the a ends in a first loop and to the b ends in a
+/// second.
+template <typename Real>
+struct RunScratch {
+  alignas(64) Real x[kMaxRunLength];
+  alignas(64) Real y[kMaxRunLength];
+  alignas(64) Real z[kMaxRunLength];
+};
+
+/// Adds c to the run's a ends and subtracts it from its b ends in one force array (x, y, z).
+template <typename Real>
+inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run,
+                                                       const RunScratch<Real>& c, Real* x, Real* y,
+                                                       Real* z) {
+  Real* __restrict fx = x;
+  Real* __restrict fy = y;
+  Real* __restrict fz = z;
+  const int a0 = run.a0, b0 = run.a0 + run.offset, n = run.count;
+  for (int i = 0; i < n; ++i) {
+    fx[a0 + i] += c.x[i];
+    fy[a0 + i] += c.y[i];
+    fz[a0 + i] += c.z[i];
+  }
+  for (int i = 0; i < n; ++i) {
+    fx[b0 + i] -= c.x[i];
+    fy[b0 + i] -= c.y[i];
+    fz[b0 + i] -= c.z[i];
+  }
+}
+
+/// One run of the direct stiffness product; node arrays start at the run's a0.
+template <typename Real>
+inline __attribute__((always_inline)) void StiffnessRun(
+    int n, int offset, const Real* __restrict k, const Real* __restrict ux,
+    const Real* __restrict uy, const Real* __restrict uz, const Real* __restrict geometric,
+    const Real* __restrict vx, const Real* __restrict vy, const Real* __restrict vz,
+    RunScratch<Real>* __restrict c, Real* __restrict rate) {
+  for (int i = 0; i < n; ++i) {
+    const Real dx = vx[i + offset] - vx[i];
+    const Real dy = vy[i + offset] - vy[i];
+    const Real dz = vz[i + offset] - vz[i];
+    const Real stretch = ux[i] * dx + uy[i] * dy + uz[i] * dz;
+    const Real along = k[i] * stretch - geometric[i] * stretch;
+    rate[i] = k[i] * stretch;
+    // K dv on node a: -(k (u.dv) u + (T / L)(dv - u (u.dv))); node b gets the opposite.
+    c->x[i] = -(along * ux[i] + geometric[i] * dx);
+    c->y[i] = -(along * uy[i] + geometric[i] * dy);
+    c->z[i] = -(along * uz[i] + geometric[i] * dz);
+  }
+}
+
+/// The direct stiffness product over runs [run_begin, run_end) in Real: springs' k, inflows and
+/// the linearisation (u, T / L) in schedule order; dv and out as x, y, z arrays;
+/// accumulator_change (null: no dispersion) per node.
+template <typename Real>
+inline __attribute__((always_inline)) void StiffnessRunsOf(
+    const SpringRun* runs, int run_begin, int run_end, const Real* stiffness, const Real* inflow_a,
+    const Real* inflow_b, const Real* ux, const Real* uy, const Real* uz, const Real* geometric,
+    const Real* const dv[3], Real* const out[3], Real* accumulator_change) {
+  RunScratch<Real> c;
+  alignas(64) Real rate[kMaxRunLength];
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = runs[r];
+    const int f = run.first;
+    StiffnessRun<Real>(run.count, run.offset, stiffness + f, ux + f, uy + f, uz + f, geometric + f,
+                       dv[0] + run.a0, dv[1] + run.a0, dv[2] + run.a0, &c, rate);
+    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
+    if (accumulator_change == nullptr) continue;
+    Real* __restrict ja = accumulator_change + run.a0;
+    Real* __restrict jb = ja + run.offset;
+    const Real* __restrict in_a = inflow_a + f;
+    const Real* __restrict in_b = inflow_b + f;
+    for (int i = 0; i < run.count; ++i) ja[i] += in_a[i] * rate[i];
+    for (int i = 0; i < run.count; ++i) jb[i] += in_b[i] * rate[i];
+  }
+}
+
+/// The dispersed part, in Real: dg per node.
+template <typename Real>
+inline __attribute__((always_inline)) void DispersedStiffnessRunsOf(
+    const SpringRun* runs, int run_begin, int run_end, const Real* outflow_a, const Real* outflow_b,
+    const Real* ux, const Real* uy, const Real* uz, const Real* dg, Real* const out[3]) {
+  RunScratch<Real> c;
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = runs[r];
+    const Real* __restrict out_a = outflow_a + run.first;
+    const Real* __restrict out_b = outflow_b + run.first;
+    const Real* __restrict ga = dg + run.a0;
+    const Real* __restrict gb = ga + run.offset;
+    const Real* __restrict x = ux + run.first;
+    const Real* __restrict y = uy + run.first;
+    const Real* __restrict z = uz + run.first;
+    for (int i = 0; i < run.count; ++i) {
+      const Real change = out_a[i] * ga[i] + out_b[i] * gb[i];
+      c.x[i] = -change * x[i];
+      c.y[i] = -change * y[i];
+      c.z[i] = -change * z[i];
+    }
+    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
+  }
+}
+
+}  // namespace msm_sim::core::internal
