@@ -21,7 +21,7 @@ struct MultigridOptions {
 };
 
 /// One coarse level: its grid's prolongation from it to the level above, and its Galerkin mass
-/// and stiffness (P^T M P, P^T K P), assembled once per model.
+/// and stiffness (P^T M P, P^T K P), assembled at set-up.
 struct MultigridLevel {
   Eigen::Matrix3Xd vertices;                 ///< m, the grid vertices (rest frame)
   Eigen::SparseMatrix<double> prolongation;  ///< (3 n_above) x (3 n), DOF 3 i + d
@@ -37,7 +37,7 @@ struct MultigridLevel {
 /// nodes' rest positions (so any lattice, cubic or random, has one); a node's value is the
 /// trilinear interpolation of its coarse cell's corners. The fine level is the caller's own
 /// operator (the current K, matrix-free, with its held DOFs); the coarse levels are the rest
-/// state's, which is what makes the set-up a once-per-model cost.
+/// state's, which makes the set-up a cost once per model and set of kinematic nodes.
 class MultigridPreconditioner {
  public:
   /// `held` (per node, empty for none): the nodes whose three DOFs the solves hold (kinematic
