@@ -86,11 +86,11 @@ constexpr double kDampingBeta = 1e-4;
 // The lattice of BM_DynamicsStep12k (bench/dynamics_benchmark.cpp), built once for both sides.
 std::shared_ptr<const Model> Lattice12k() {
   static const std::shared_ptr<const Model> model = [] {
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d(0.4, 0.2, 0.15);
-    lattice.spacing = 0.01;
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = Eigen::Vector3d(0.4, 0.2, 0.15);
+    lattice_options.lattice.spacing = 0.01;
     return std::make_shared<const Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice));
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options));
   }();
   return model;
 }

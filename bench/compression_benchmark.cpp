@@ -16,13 +16,13 @@ const Material kMaterial = Material::FromYoungsPoisson(1e5, 0.25, 1100.0);
 
 // Node-centred cubic block 2 x 1 x 1 m at a = 1/20 m: 40 x 20 x 20 = 16,000 nodes.
 void BM_CompressionCubic16k(benchmark::State& state) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  lattice.spacing = 0.05;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
+  lattice_options.lattice.spacing = 0.05;
   for (auto _ : state) {
-    const Model model = BuildCubicLattice(kMaterial, lattice);
+    const Model model = BuildCubicLattice(kMaterial, lattice_options);
     CompressionExperimentOptions options;
-    options.body_size = lattice.size;
+    options.body_size = lattice_options.size;
     const CompressionExperimentResult result = RunCompressionExperiment(model, options);
     benchmark::DoNotOptimize(result.youngs_measured);
     state.counters["nodes"] = model.num_nodes();
@@ -33,14 +33,14 @@ BENCHMARK(BM_CompressionCubic16k)->Unit(benchmark::kSecond)->Iterations(3);
 
 // Random block 4 x 2 x 2 m at l = 0.1 m: 16,000 nodes, <S> ~ 22.
 void BM_CompressionRandom16k(benchmark::State& state) {
-  RandomLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(4.0, 2.0, 2.0);
-  lattice.spacing = 0.1;
-  lattice.max_distance = 1.9;
+  RandomLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(4.0, 2.0, 2.0);
+  lattice_options.lattice.spacing = 0.1;
+  lattice_options.max_distance = 1.9;
   for (auto _ : state) {
-    const Model model = BuildRandomLattice(kMaterial, lattice);
+    const Model model = BuildRandomLattice(kMaterial, lattice_options);
     CompressionExperimentOptions options;
-    options.body_size = lattice.size;
+    options.body_size = lattice_options.size;
     const CompressionExperimentResult result = RunCompressionExperiment(model, options);
     benchmark::DoNotOptimize(result.youngs_measured);
     state.counters["nodes"] = model.num_nodes();
@@ -73,11 +73,11 @@ void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark
 // 96,579 springs): plain MSM (nu = 1/4) against the eMSM (nu = 0.45) with two-pass and one-pass
 // dispersion, and the non-linear spring law. Issue target: eMSM <= 1.6 x plain.
 Model Block12k(double poisson, SpringLaw law = SpringLaw::kLinear) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  lattice.spacing = 1.0 / 18.0;
-  lattice.spring_law = law;
-  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
+  lattice_options.lattice.spacing = 1.0 / 18.0;
+  lattice_options.lattice.spring_law = law;
+  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options);
 }
 
 void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPasses passes,
@@ -152,11 +152,12 @@ BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain_nonlinear, 0.25, DispersionPasses
 // dampers).
 void BM_ForceEvaluationCubic12k(benchmark::State& state, CubicConstruction construction,
                                 SpringPrecision precision) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  lattice.spacing = 1.0 / 18.0;
-  lattice.construction = construction;
-  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
+  lattice_options.lattice.spacing = 1.0 / 18.0;
+  lattice_options.construction = construction;
+  const Model model =
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options);
   TimeForceEvaluations(model, DispersionPasses::kTwoPass, state, SpringKernels::kAuto, false,
                        precision);
 }
@@ -173,21 +174,23 @@ BENCHMARK_CAPTURE(BM_ForceEvaluationCubic12k, node_single, CubicConstruction::kN
 // Baudet's bricks on the same block: 37 x 19 x 19 corner nodes (13,357), 12 edges and 4 inner
 // diagonals per brick plus the correction elements, at nu = 0.45.
 void BM_ForceEvaluationBaudet12k(benchmark::State& state) {
-  BaudetLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  lattice.spacing = 1.0 / 18.0;
-  const Model model = BuildBaudetLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice);
+  BaudetLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
+  lattice_options.lattice.spacing = 1.0 / 18.0;
+  const Model model =
+      BuildBaudetLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options);
   TimeForceEvaluations(model, DispersionPasses::kTwoPass, state);
 }
 BENCHMARK(BM_ForceEvaluationBaudet12k)->Unit(benchmark::kMicrosecond);
 
 // A random eMSM block 3 x 2 x 2 m at l = 0.1 m (12,000 nodes, <S> ~ 22), nu = 0.45, two-pass.
 void BM_ForceEvaluationRandom12k(benchmark::State& state) {
-  RandomLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(3.0, 2.0, 2.0);
-  lattice.spacing = 0.1;
-  lattice.max_distance = 1.9;
-  const Model model = BuildRandomLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice);
+  RandomLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(3.0, 2.0, 2.0);
+  lattice_options.lattice.spacing = 0.1;
+  lattice_options.max_distance = 1.9;
+  const Model model =
+      BuildRandomLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options);
   TimeForceEvaluations(model, DispersionPasses::kTwoPass, state);
 }
 BENCHMARK(BM_ForceEvaluationRandom12k)->Unit(benchmark::kMicrosecond);

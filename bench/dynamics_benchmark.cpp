@@ -20,11 +20,11 @@ namespace {
 // (BodyOptions::orientation_threshold; none is below it at rest, so it adds no force).
 void DynamicsStep12k(benchmark::State& state, bool record_contact_points,
                      double orientation_threshold = 0.0) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.4, 0.2, 0.15);
-  lattice.spacing = 0.01;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.4, 0.2, 0.15);
+  lattice_options.lattice.spacing = 0.01;
   const auto model = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options));
   WorldOptions world_options;
   world_options.threads = BenchThreads();  // MSM_SIM_THREADS, else every core, as measured
   world_options.record_contact_points = record_contact_points;

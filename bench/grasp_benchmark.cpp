@@ -26,8 +26,8 @@ std::shared_ptr<const Model> GraspBean() {
     BodyRecipe recipe(Material::FromYoungsPoisson(259e3, 0.49, 1070.0));
     recipe.solid = std::make_shared<const SolidMesh>(
         ImportSolidMesh(std::string(MSM_SIM_MESH_DIR) + "/soft_bean.obj", import));
-    recipe.spacing = 0.003;
-    recipe.surface_dispersion = 0.25;
+    recipe.lattice.spacing = 0.003;
+    recipe.surface.surface_dispersion = 0.25;
     bean = std::make_shared<const Model>(BuildModel(recipe));
   }
   return bean;

@@ -22,7 +22,7 @@ void BM_BuildCubicFromMesh12k(benchmark::State& state) {
   for (auto _ : state) {
     const SolidMesh solid = ImportSolidMesh(kBean);
     MeshCubicLatticeOptions options;
-    options.spacing = std::cbrt(solid.volume() / kTargetNodes);
+    options.lattice.spacing = std::cbrt(solid.volume() / kTargetNodes);
     options.antialias = state.range(0) != 0;
     const Model model = BuildCubicLatticeInSolid(kSilicone, solid, options);
     state.counters["triangles"] = solid.surface().num_triangles();
@@ -36,7 +36,7 @@ void BM_BuildRandomFromMesh12k(benchmark::State& state) {
   for (auto _ : state) {
     const SolidMesh solid = ImportSolidMesh(kBean);
     RandomLatticeOptions options;
-    options.spacing = std::cbrt(solid.volume() / kTargetNodes);
+    options.lattice.spacing = std::cbrt(solid.volume() / kTargetNodes);
     options.max_distance = 1.9;
     const Model model = BuildRandomLatticeInSolid(kSilicone, solid, options);
     state.counters["nodes"] = model.num_nodes();
@@ -49,7 +49,7 @@ BENCHMARK(BM_BuildRandomFromMesh12k)->Unit(benchmark::kSecond);
 void BM_Skin12k(benchmark::State& state) {
   const SolidMesh solid = ImportSolidMesh(kBean);
   MeshCubicLatticeOptions options;
-  options.spacing = std::cbrt(solid.volume() / kTargetNodes);
+  options.lattice.spacing = std::cbrt(solid.volume() / kTargetNodes);
   const Model model = BuildCubicLatticeInSolid(kSilicone, solid, options);
   const bool embed = state.range(0) != 0;
   const SurfaceSkin skin = SurfaceSkin::Embed(model, solid.surface());

@@ -6,9 +6,9 @@
 // over stepping time. Variants: node spacing, Poisson's ratio, the spring loops' precision
 // (WorldOptions::spring_precision) and the threads (WorldOptions::threads: 1, or 2 for the
 // single-precision loops, whose node shares then run the per-node stages too) and the outer
-// layer's share of the eMSM bulk (CubicLatticeOptions::surface_dispersion, in per cent: 100 is
-// off, 50 and 25 the softer outer layer of docs/physics.md §7). Compare variants
-// interleaved: --benchmark_filter=Realtime
+// layer's share of the eMSM bulk (NodeCentredSurfaceOptions::surface_dispersion, in per cent: 100
+// is off, 50 and 25 the softer outer layer of docs/physics.md §7). Compare variants interleaved:
+// --benchmark_filter=Realtime
 // --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true
 #include <map>
 #include <memory>
@@ -30,12 +30,12 @@ std::shared_ptr<const Model> RealtimeBlock(double spacing, double poisson,
   static std::map<std::tuple<double, double, double>, std::shared_ptr<const Model>> blocks;
   auto& block = blocks[{spacing, poisson, surface_dispersion}];
   if (!block) {
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d(0.1, 0.1, 0.05);
-    lattice.spacing = spacing;
-    lattice.surface_dispersion = surface_dispersion;
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = Eigen::Vector3d(0.1, 0.1, 0.05);
+    lattice_options.lattice.spacing = spacing;
+    lattice_options.surface.surface_dispersion = surface_dispersion;
     block = std::make_shared<const Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice));
+        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice_options));
   }
   return block;
 }

@@ -39,11 +39,11 @@ WorldOptions ThreadedWorld() {
 struct ScalingScene {
   ScalingScene(int side, double poisson) {
     const auto start = std::chrono::steady_clock::now();
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d::Constant(side * kSpacing);
-    lattice.spacing = kSpacing;
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = Eigen::Vector3d::Constant(side * kSpacing);
+    lattice_options.lattice.spacing = kSpacing;
     model = std::make_shared<const Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice));
+        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice_options));
     BodyOptions options;
     options.damping_beta = 1e-4;
     body = world.AddBody("block", model, options);

@@ -214,7 +214,7 @@ core::Model SlideBox(const SlideArguments& slide) {
   }
   core::CubicLatticeOptions options;
   options.size = slide.size;
-  options.spacing = spacing.x();
+  options.lattice.spacing = spacing.x();
   options.construction = core::CubicConstruction::kElementCorner;
   return core::BuildCubicLattice(core::Material::FromYoungsPoisson(slide.youngs, slide.poisson,
                                                                    slide.mass / slide.size.prod()),

@@ -77,7 +77,7 @@ int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream
   const auto start = std::chrono::steady_clock::now();
   const bool faces = DeflectionAtFaces(arguments);
   core::BodyRecipe recipe = LabRecipe(arguments.model, LoadLabBody(arguments.model, true));
-  if (faces) recipe.anchored_planes.push_back(core::AnchoredPlane{});  // the face x = 0
+  if (faces) recipe.surface.anchored_planes.push_back(core::AnchoredPlane{});  // the face x = 0
   const core::Model model = core::BuildModel(recipe);
   const core::ModelStatistics stats = core::ComputeModelStatistics(model);
   const double build_seconds = Seconds(start);

@@ -33,27 +33,27 @@ LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin) {
 core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body) {
   core::BodyRecipe recipe(
       core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density));
-  if (!core::ParseSpringLaw(arguments.spring, &recipe.spring_law)) {
+  if (!core::ParseSpringLaw(arguments.spring, &recipe.lattice.spring_law)) {
     throw std::invalid_argument("unknown spring law '" + arguments.spring +
                                 "' (expected linear or nonlinear)");
   }
-  if (!core::ParseLatticeKind(arguments.model, &recipe.lattice)) {
+  if (!core::ParseLatticeKind(arguments.model, &recipe.lattice_kind)) {
     throw std::invalid_argument("unknown model '" + arguments.model +
                                 "' (expected cubic, random or baudet)");
   }
   recipe.solid = body.solid;
   recipe.box_size = arguments.size;
-  recipe.spacing = arguments.spacing;
+  recipe.lattice.spacing = arguments.spacing;
   recipe.target_nodes = arguments.target_nodes;
   if (arguments.rotate) {
-    recipe.rotation_axis = arguments.rotate->head<3>();
-    recipe.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
+    recipe.lattice.rotation_axis = arguments.rotate->head<3>();
+    recipe.lattice.rotation_angle = (*arguments.rotate)[3] * M_PI / 180.0;
   }
   recipe.construction = arguments.construction == "corner" ? core::CubicConstruction::kElementCorner
                                                            : core::CubicConstruction::kNodeCentred;
   recipe.antialias = arguments.antialias;
-  recipe.free_face_bending = arguments.free_face_bending;
-  recipe.surface_dispersion = arguments.surface_dispersion;
+  recipe.surface.free_face_bending = arguments.free_face_bending;
+  recipe.surface.surface_dispersion = arguments.surface_dispersion;
   recipe.seed = arguments.seed;
   recipe.random_min_distance = arguments.min_dist;
   recipe.random_max_distance = arguments.max_dist;

@@ -95,15 +95,14 @@ BaudetStiffness ComputeBaudetStiffness(const Material& material, double spacing)
 }
 
 Model BuildBaudetLattice(const Material& material, const BaudetLatticeOptions& options) {
-  const lattice::BoxLattice box{options.size, options.spacing, options.rotation_axis,
-                                options.rotation_angle, options.max_nodes};
+  const lattice::BoxLattice box = lattice::BoxOf(options.size, options.lattice);
   lattice::Validate(box);
   const ElementGrid grid = lattice::MakeElementGrid(box);
-  const double a = options.spacing;
+  const double a = options.lattice.spacing;
   const BaudetStiffness stiffness = ComputeBaudetStiffness(material, a);
 
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.spring_law);
+  builder.SetSpringLaw(options.lattice.spring_law);
   AddLumpedNodes(material, grid, a, &builder);
   const std::vector<SpringIndex> edge_spring = AddEdgeSprings(grid, stiffness.edge, &builder);
   AddDiagonalsAndCorrections(grid, stiffness, options.orthogonal_correction, edge_spring, &builder);

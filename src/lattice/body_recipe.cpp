@@ -23,7 +23,7 @@ constexpr std::array<LatticeKind, 3> kLatticeKinds = {LatticeKind::kCubic, Latti
 bool AntiAliasesTheBox(const BodyRecipe& recipe);
 
 void Validate(const BodyRecipe& recipe) {
-  if (recipe.solid && (recipe.lattice == LatticeKind::kBaudet ||
+  if (recipe.solid && (recipe.lattice_kind == LatticeKind::kBaudet ||
                        recipe.construction == CubicConstruction::kElementCorner)) {
     // Worded for the lab, whose --mesh is the only way a user meets this.
     throw std::invalid_argument(
@@ -33,23 +33,25 @@ void Validate(const BodyRecipe& recipe) {
   if (recipe.solid && recipe.centre_box) {
     throw std::invalid_argument("centre_box moves a box region; a solid stays in its own frame");
   }
-  if (!recipe.anchored_planes.empty() &&
-      (recipe.lattice != LatticeKind::kCubic ||
-       recipe.construction != CubicConstruction::kNodeCentred || recipe.rotation_angle != 0.0)) {
+  if (!recipe.surface.anchored_planes.empty() &&
+      (recipe.lattice_kind != LatticeKind::kCubic ||
+       recipe.construction != CubicConstruction::kNodeCentred ||
+       recipe.lattice.rotation_angle != 0.0)) {
     // Face anchors are built by the node-centred builders (BuildCubicLattice,
     // BuildCubicLatticeInSolid) on a lattice aligned with the body.
     throw std::invalid_argument(
         "anchored planes (face clamps) need a node-centred cubic lattice aligned with the body "
         "(not rotated)");
   }
-  if (recipe.free_face_bending && (recipe.lattice != LatticeKind::kCubic ||
-                                   recipe.construction != CubicConstruction::kNodeCentred)) {
+  if (recipe.surface.free_face_bending &&
+      (recipe.lattice_kind != LatticeKind::kCubic ||
+       recipe.construction != CubicConstruction::kNodeCentred)) {
     throw std::invalid_argument(
         "the free faces' bending correction is for node-centred cubic lattices (the "
         "element-corner, Baudet and random lattices have their own surface)");
   }
-  if (recipe.surface_dispersion != 1.0 &&
-      (recipe.lattice != LatticeKind::kCubic ||
+  if (recipe.surface.surface_dispersion != 1.0 &&
+      (recipe.lattice_kind != LatticeKind::kCubic ||
        recipe.construction != CubicConstruction::kNodeCentred)) {
     throw std::invalid_argument(
         "surface_dispersion is for node-centred cubic lattices (the element-corner, Baudet and "
@@ -85,11 +87,11 @@ void CheckSiteCount(const BodyRecipe& recipe, double spacing) {
 RandomLatticeOptions RandomOptions(const BodyRecipe& recipe, double spacing) {
   RandomLatticeOptions options;
   options.size = recipe.box_size;
-  options.spacing = spacing;
+  options.lattice = recipe.lattice;
+  options.lattice.spacing = spacing;
   options.seed = recipe.seed;
   options.min_distance = recipe.random_min_distance;
   options.max_distance = recipe.random_max_distance;
-  options.spring_law = recipe.spring_law;
   options.stiffness_law = recipe.stiffness_law;
   options.self_calibrate = recipe.random_self_calibrate;
   // A correction measured for the same conditions is the one a measurement would give (it is
@@ -103,43 +105,33 @@ RandomLatticeOptions RandomOptions(const BodyRecipe& recipe, double spacing) {
 }
 
 Model BuildInSolid(const BodyRecipe& recipe, double spacing) {
-  if (recipe.lattice == LatticeKind::kRandom) {
+  if (recipe.lattice_kind == LatticeKind::kRandom) {
     return BuildRandomLatticeInSolid(recipe.material, *recipe.solid,
                                      RandomOptions(recipe, spacing));
   }
   MeshCubicLatticeOptions options;
-  options.spacing = spacing;
+  options.lattice = recipe.lattice;
+  options.lattice.spacing = spacing;
   options.antialias = recipe.antialias;
-  options.free_face_bending = recipe.free_face_bending;
-  options.surface_dispersion = recipe.surface_dispersion;
-  options.anchored_planes = recipe.anchored_planes;
-  options.spring_law = recipe.spring_law;
-  options.rotation_axis = recipe.rotation_axis;
-  options.rotation_angle = recipe.rotation_angle;
+  options.surface = recipe.surface;
   return BuildCubicLatticeInSolid(recipe.material, *recipe.solid, options);
 }
 
 Model BuildCubicInBox(const BodyRecipe& recipe, double spacing) {
   CubicLatticeOptions options;
   options.size = recipe.box_size;
-  options.spacing = spacing;
+  options.lattice = recipe.lattice;
+  options.lattice.spacing = spacing;
   options.construction = recipe.construction;
-  options.spring_law = recipe.spring_law;
-  options.rotation_axis = recipe.rotation_axis;
-  options.rotation_angle = recipe.rotation_angle;
-  options.anchored_planes = recipe.anchored_planes;
-  options.free_face_bending = recipe.free_face_bending;
-  options.surface_dispersion = recipe.surface_dispersion;
+  options.surface = recipe.surface;
   return BuildCubicLattice(recipe.material, options);
 }
 
 Model BuildBaudetInBox(const BodyRecipe& recipe, double spacing) {
   BaudetLatticeOptions options;
   options.size = recipe.box_size;
-  options.spacing = spacing;
-  options.spring_law = recipe.spring_law;
-  options.rotation_axis = recipe.rotation_axis;
-  options.rotation_angle = recipe.rotation_angle;
+  options.lattice = recipe.lattice;
+  options.lattice.spacing = spacing;
   return BuildBaudetLattice(recipe.material, options);
 }
 
@@ -148,7 +140,7 @@ Model BuildBaudetInBox(const BodyRecipe& recipe, double spacing) {
 // The box lattice keeps whole cells or none, which reads E too low on a rotated lattice
 // (docs/meshes.md).
 bool AntiAliasesTheBox(const BodyRecipe& recipe) {
-  return recipe.antialias && recipe.rotation_angle != 0.0 &&
+  return recipe.antialias && recipe.lattice.rotation_angle != 0.0 &&
          recipe.construction == CubicConstruction::kNodeCentred;
 }
 
@@ -161,7 +153,7 @@ Model BuildCubicInBoxSolid(const BodyRecipe& recipe, double spacing) {
 }
 
 Model BuildInBox(const BodyRecipe& recipe, double spacing) {
-  switch (recipe.lattice) {
+  switch (recipe.lattice_kind) {
     case LatticeKind::kCubic:
       if (AntiAliasesTheBox(recipe)) return BuildCubicInBoxSolid(recipe, spacing);
       return BuildCubicInBox(recipe, spacing);
@@ -208,7 +200,7 @@ const std::vector<std::string>& LatticeKindNames() {
 
 // A target node count fixes the spacing: N = V / a^3.
 double RecipeSpacing(const BodyRecipe& recipe) {
-  if (recipe.target_nodes <= 0) return recipe.spacing;
+  if (recipe.target_nodes <= 0) return recipe.lattice.spacing;
   const double volume = recipe.target_volume > 0.0 ? recipe.target_volume
                         : recipe.solid             ? recipe.solid->volume()
                                                    : recipe.box_size.prod();

@@ -19,14 +19,11 @@ namespace {
 
 using namespace lattice;
 
-BoxLattice Box(const CubicLatticeOptions& options) {
-  return {options.size, options.spacing, options.rotation_axis, options.rotation_angle,
-          options.max_nodes};
-}
+BoxLattice Box(const CubicLatticeOptions& options) { return BoxOf(options.size, options.lattice); }
 
 ModelBuilder MakeBuilder(const Material& material, const CubicLatticeOptions& options) {
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.spring_law);
+  builder.SetSpringLaw(options.lattice.spring_law);
   builder.SetDispersionFraction(DispersionFraction(material.poisson_ratio()));
   return builder;
 }
@@ -35,24 +32,24 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
   OccupiedCells cells;
   cells.frame = CellFrame(Box(options));
   cells.frame.CoveringRange(options.size, &cells.lo, &cells.hi);
-  const double tolerance = 1e-9 * options.spacing;
+  const double tolerance = 1e-9 * options.lattice.spacing;
   for (int k = cells.lo.z(); k <= cells.hi.z(); ++k) {
     for (int j = cells.lo.y(); j <= cells.hi.y(); ++j) {
       for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
         const Eigen::Vector3i c(i, j, k);
         if (!InsideBox(cells.frame.Position(c), options.size, tolerance)) continue;
-        CheckNodeBudget(static_cast<long long>(cells.coords.size()) + 1, options.max_nodes);
+        CheckNodeBudget(static_cast<long long>(cells.coords.size()) + 1, options.lattice.max_nodes);
         cells.coords.push_back(c);
         cells.fractions.push_back(1.0);
       }
     }
   }
   if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
-  return BuildNodeCentredModel(material, cells, SurfaceOptionsOf(options));
+  return BuildNodeCentredModel(material, cells, options.surface, options.lattice.spring_law);
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {
-  const double a = options.spacing;
+  const double a = options.lattice.spacing;
   const double kappa = material.shear_modulus() * a;
   const ElementGrid grid = MakeElementGrid(Box(options));
   const int n = static_cast<int>(grid.corners.size());
@@ -102,13 +99,14 @@ Model BuildElementCorner(const Material& material, const CubicLatticeOptions& op
 
 Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& options) {
   Validate(Box(options));
-  lattice::ValidateAnchoredPlanes(options.anchored_planes);
-  lattice::ValidateSurfaceDispersion(options.surface_dispersion);
-  if (options.surface_dispersion != 1.0 &&
+  lattice::ValidateAnchoredPlanes(options.surface.anchored_planes);
+  lattice::ValidateSurfaceDispersion(options.surface.surface_dispersion);
+  if (options.surface.surface_dispersion != 1.0 &&
       options.construction != CubicConstruction::kNodeCentred) {
     throw std::invalid_argument("surface_dispersion needs the node-centred construction");
   }
-  if (!options.anchored_planes.empty() && options.construction != CubicConstruction::kNodeCentred) {
+  if (!options.surface.anchored_planes.empty() &&
+      options.construction != CubicConstruction::kNodeCentred) {
     // Element-corner nodes already lie on the surface: freezing them clamps the face.
     throw std::invalid_argument("anchored planes need the node-centred construction");
   }

@@ -7,6 +7,8 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/lattice/lattice_options.h"
+
 namespace msm_sim::core::lattice {
 
 /// The box and lattice every cubic construction starts from.
@@ -17,6 +19,11 @@ struct BoxLattice {
   double rotation_angle;          ///< rad
   int max_nodes;
 };
+
+/// The box `size` filled with `lattice`'s spacing, rotation and node limit.
+inline BoxLattice BoxOf(const Eigen::Vector3d& size, const LatticeOptions& lattice) {
+  return {size, lattice.spacing, lattice.rotation_axis, lattice.rotation_angle, lattice.max_nodes};
+}
 
 /// Throws std::invalid_argument for non-finite or non-positive sizes or spacing, or a spacing
 /// larger than the smallest edge. Shared by every lattice builder.

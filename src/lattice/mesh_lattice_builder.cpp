@@ -18,13 +18,11 @@ namespace {
 using namespace lattice;
 
 void Validate(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
-  ValidateSizeAndSpacing(solid.max_corner() - solid.min_corner(), options.spacing);
-  BoxLattice box{solid.max_corner() - solid.min_corner(), options.spacing, options.rotation_axis,
-                 options.rotation_angle, options.max_nodes};
-  Validate(box);
-  lattice::ValidateAnchoredPlanes(options.anchored_planes);
-  lattice::ValidateSurfaceDispersion(options.surface_dispersion);
-  if (!options.anchored_planes.empty() && options.rotation_angle != 0.0) {
+  ValidateSizeAndSpacing(solid.max_corner() - solid.min_corner(), options.lattice.spacing);
+  Validate(BoxOf(solid.max_corner() - solid.min_corner(), options.lattice));
+  lattice::ValidateAnchoredPlanes(options.surface.anchored_planes);
+  lattice::ValidateSurfaceDispersion(options.surface.surface_dispersion);
+  if (!options.surface.anchored_planes.empty() && options.lattice.rotation_angle != 0.0) {
     throw std::invalid_argument("anchored planes need a lattice aligned with the solid's frame");
   }
   if (!(options.min_fraction >= 0.0 && options.min_fraction < 1.0)) {
@@ -61,9 +59,10 @@ struct CellRange {
 };
 
 Eigen::Matrix3d LatticeRotation(const MeshCubicLatticeOptions& options) {
-  return options.rotation_angle == 0.0
+  return options.lattice.rotation_angle == 0.0
              ? Eigen::Matrix3d::Identity()
-             : Eigen::AngleAxisd(options.rotation_angle, options.rotation_axis.normalized())
+             : Eigen::AngleAxisd(options.lattice.rotation_angle,
+                                 options.lattice.rotation_axis.normalized())
                    .toRotationMatrix();
 }
 
@@ -145,14 +144,14 @@ void CollectKeptCells(const CellRange& range, const std::vector<double>& fractio
   range.ForEachCell([&](const Eigen::Vector3i& c) {
     const double chi = fraction[range.Flat(c)];
     if (!Kept(chi, options.min_fraction)) return;
-    CheckNodeBudget(static_cast<long long>(cells->coords.size()) + 1, options.max_nodes);
+    CheckNodeBudget(static_cast<long long>(cells->coords.size()) + 1, options.lattice.max_nodes);
     cells->coords.push_back(c);
     cells->fractions.push_back(chi + absorbed[range.Flat(c)]);
   });
 }
 
 OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
-  const double a = options.spacing;
+  const double a = options.lattice.spacing;
   OccupiedCells cells;
   cells.frame.rotation = LatticeRotation(options);
   cells.frame.centre = 0.5 * (solid.min_corner() + solid.max_corner());
@@ -179,8 +178,8 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
 Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options) {
   Validate(solid, options);
-  return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options),
-                               SurfaceOptionsOf(options));
+  return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options), options.surface,
+                               options.lattice.spring_law);
 }
 
 }  // namespace msm_sim::core

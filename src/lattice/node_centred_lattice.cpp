@@ -245,32 +245,33 @@ void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored) {
 }
 
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            const NodeCentredOptions& options) {
+                            const NodeCentredSurfaceOptions& surface, SpringLaw spring_law) {
   const double a = cells.frame.unit;
   const double kappa = material.shear_modulus() * a;
   const double cell_mass = material.density() * a * a * a;
   const double q = DispersionFraction(material.poisson_ratio());
   LatticeIndex index(cells.lo, cells.hi);
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.spring_law);
+  builder.SetSpringLaw(spring_law);
   builder.SetDispersionFraction(q);
   const double occupied = AddCellNodes(cells, cell_mass, &index, &builder);
   EndShares shares;
   const std::vector<SpringIndex> spring_of =
       AddHalfOffsetSprings(cells, index, kappa, &builder, &shares);
-  if (options.compensate_surface) {
-    MirrorMissingHalfSprings(cells, index, kappa, spring_of, options.anchored, &builder, &shares);
+  if (surface.compensate_surface) {
+    MirrorMissingHalfSprings(cells, index, kappa, spring_of, surface.anchored_planes, &builder,
+                             &shares);
   }
   const std::optional<FreeFaceBending> bending =
-      options.free_face_bending && options.compensate_surface
+      surface.free_face_bending && surface.compensate_surface
           ? FreeFaceBendingOf(cells, material.poisson_ratio())
           : std::nullopt;
   std::vector<double> factors = ScaleForFreeFaceBending(cells, bending, &builder);
-  AddFaceAnchors(cells, index, options.anchored, kappa, options.compensate_surface,
+  AddFaceAnchors(cells, index, surface.anchored_planes, kappa, surface.compensate_surface,
                  1e-6 * cell_mass, bending, &builder, &shares, &factors);
   SetDispersionWeightsFromShares(shares, factors, &builder);
-  if (options.surface_dispersion < 1.0 && q > 0.0) {
-    ShiftOuterLayerDispersion(OuterLayerOf(cells, index), options.surface_dispersion, &builder);
+  if (surface.surface_dispersion < 1.0 && q > 0.0) {
+    ShiftOuterLayerDispersion(OuterLayerOf(cells, index), surface.surface_dispersion, &builder);
   }
   return builder.Build(occupied * a * a * a, a);
 }

@@ -28,48 +28,23 @@ struct OccupiedCells {
 /// zero normal.
 void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored);
 
-/// How BuildNodeCentredModel treats the body's surface.
-struct NodeCentredOptions {
-  /// Mirror the missing half-springs of surface cells onto the opposite spring of the same node
-  /// (see BuildCubicLattice).
-  bool compensate_surface = true;
-  SpringLaw spring_law = SpringLaw::kLinear;
-  /// Surface planes held by face anchors (AnchoredPlane, docs/physics.md §2.1 "Face anchors").
-  std::vector<AnchoredPlane> anchored;
-  /// With compensate_surface, cells that fill a box (all full) get FreeFaceBending's stiffness
-  /// factors on their springs and face anchors, and dispersion weights divided by the same
-  /// factors so that the eMSM dispersion (which weighs v k) is unchanged.
-  bool free_face_bending = false;
-  /// In (0, 1]: the share of its eMSM bulk the outer node layer keeps, the rest moved onto the
-  /// layer beneath (ShiftOuterLayerDispersion). Applies where the dispersion adds bulk (q > 0).
-  double surface_dispersion = 1.0;
-};
-
-/// The surface options of a builder's options (CubicLatticeOptions, MeshCubicLatticeOptions),
-/// which name them alike.
-template <typename BuilderOptions>
-NodeCentredOptions SurfaceOptionsOf(const BuilderOptions& options) {
-  NodeCentredOptions surface;
-  surface.compensate_surface = options.compensate_surface;
-  surface.spring_law = options.spring_law;
-  surface.anchored = options.anchored_planes;
-  surface.free_face_bending = options.free_face_bending;
-  surface.surface_dispersion = options.surface_dispersion;
-  return surface;
-}
-
 /// Builds the calibrated node-centred model: a node at each cell centre with mass rho a^3 chi,
 /// A+B springs k = (kappa / 2)(chi_i + chi_j) with kappa = mu a (each end cell contributes the
 /// half of the spring that lies in it, weighted by how much of that cell is body), eMSM
-/// dispersion fraction q(nu), and, if compensate_surface, the missing half-springs of surface
-/// cells mirrored onto the opposite spring of the same node (see BuildCubicLattice). The model
-/// volume is a^3 sum chi. A missing neighbour across one of `anchored` (positions in the frame's
-/// coordinates) gets a face anchor instead of the mirrored half-spring (AnchoredPlane,
-/// docs/physics.md §2.1 "Face anchors"), whether or not compensate_surface is set. The outer node
-/// layer (the cells missing one of their 18 neighbours) is what surface_dispersion softens.
+/// dispersion fraction q(nu), springs of `spring_law`, and, if surface.compensate_surface, the
+/// missing half-springs of surface cells mirrored onto the opposite spring of the same node (see
+/// BuildCubicLattice). The model volume is a^3 sum chi. A missing neighbour across one of
+/// surface.anchored_planes (positions in the frame's coordinates) gets a face anchor instead of
+/// the mirrored half-spring (AnchoredPlane, docs/physics.md §2.1 "Face anchors"), whether or not
+/// compensate_surface is set. With free_face_bending and compensate_surface, cells that fill a
+/// box (all full) get FreeFaceBending's stiffness factors on their springs and face anchors, and
+/// dispersion weights divided by the same factors so that the eMSM dispersion (which weighs v k)
+/// is unchanged. The outer node layer (the cells missing one of their 18 neighbours) keeps
+/// surface_dispersion of its eMSM bulk, the rest moved onto the layer beneath
+/// (ShiftOuterLayerDispersion), where the dispersion adds bulk (q > 0).
 /// Precondition: coords non-empty and unique, fractions in (0, 1], anchored normals non-zero,
 /// surface_dispersion in (0, 1].
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            const NodeCentredOptions& options);
+                            const NodeCentredSurfaceOptions& surface, SpringLaw spring_law);
 
 }  // namespace msm_sim::core::lattice

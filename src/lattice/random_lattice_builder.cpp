@@ -19,7 +19,7 @@ namespace msm_sim::core {
 namespace {
 
 void Validate(const RandomLatticeOptions& options) {
-  lattice::ValidateSizeAndSpacing(options.size, options.spacing);
+  lattice::ValidateSizeAndSpacing(options.size, options.lattice.spacing);
   if (!(options.min_distance > 0.0) || !(options.max_distance > options.min_distance) ||
       !std::isfinite(options.max_distance)) {
     throw std::invalid_argument("need 0 < min distance < max distance (multiples of l), got " +
@@ -69,13 +69,13 @@ struct Region {
   std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)> spring_allowed;
 };
 
-// round(V / l^3) nodes, at least one. Throws std::invalid_argument past options.max_nodes.
+// round(V / l^3) nodes, at least one. Throws std::invalid_argument past options.lattice.max_nodes.
 int TargetNodeCount(double volume, const RandomLatticeOptions& options) {
-  const double l = options.spacing;
+  const double l = options.lattice.spacing;
   const double requested = std::round(volume / (l * l * l));
-  if (requested > options.max_nodes) {
+  if (requested > options.lattice.max_nodes) {
     throw std::invalid_argument("the random lattice would have " + std::to_string(requested) +
-                                " nodes, more than " + std::to_string(options.max_nodes) +
+                                " nodes, more than " + std::to_string(options.lattice.max_nodes) +
                                 "; use a larger spacing");
   }
   return std::max(1, static_cast<int>(requested));
@@ -85,7 +85,7 @@ int TargetNodeCount(double volume, const RandomLatticeOptions& options) {
 // spatial hash for the rejection test. Throws std::runtime_error if the draws run out first.
 std::vector<Eigen::Vector3d> PlaceNodes(const RandomLatticeOptions& options, const Region& region,
                                         int target) {
-  const double min_length = options.min_distance * options.spacing;
+  const double min_length = options.min_distance * options.lattice.spacing;
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   SpatialHashGrid placed_grid(min_length);
@@ -189,14 +189,14 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
   }
   const double q = calibration.dispersion_fraction;
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.spring_law);
+  builder.SetSpringLaw(options.lattice.spring_law);
   builder.SetDispersionFraction(q);
   // A measured correction knows what it was measured for; the model keeps it.
   if (calibration.measurements > 0) builder.SetSelfCalibration(calibration);
   for (const Eigen::Vector3d& p : points) builder.AddNode(p, node_mass);
 
   const std::vector<NodePair> pairs =
-      SpringPairs(points, region, options.max_distance * options.spacing);
+      SpringPairs(points, region, options.max_distance * options.lattice.spacing);
   // Decided by the target, not by the corrected q: near nu = 1/4 a correction that changes the
   // sign of q would otherwise switch the weights and make the measured nu jump.
   const bool isotropise =

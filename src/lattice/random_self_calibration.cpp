@@ -79,14 +79,14 @@ SelfCalibrationConditions RandomSelfCalibrationConditions(const Material& materi
                                                           const RandomLatticeOptions& options) {
   SelfCalibrationConditions conditions;
   conditions.lattice = SelfCalibrationConditions::kRandomLattice;
-  conditions.spacing = options.spacing;
+  conditions.spacing = options.lattice.spacing;
   conditions.poisson = material.poisson_ratio();
   conditions.min_distance = options.min_distance;
   conditions.max_distance = options.max_distance;
   conditions.stiffness_law = options.stiffness_law == RandomStiffnessLaw::kUniform
                                  ? SelfCalibrationConditions::kUniformStiffness
                                  : SelfCalibrationConditions::kInverseSquareStiffness;
-  conditions.spring_law = options.spring_law;
+  conditions.spring_law = options.lattice.spring_law;
   conditions.isotropic_dispersion = options.isotropic_dispersion;
   conditions.block_cells = options.calibration_block_cells;
   conditions.seed = options.calibration_seed;
@@ -100,7 +100,7 @@ RandomSelfCalibration MeasureRandomSelfCalibration(const Material& material,
                                 std::to_string(options.calibration_block_cells));
   }
   RandomLatticeOptions block = options;
-  const double width = options.calibration_block_cells * options.spacing;
+  const double width = options.calibration_block_cells * options.lattice.spacing;
   block.size = Eigen::Vector3d(3.0 * width, width, width);
   block.seed = options.calibration_seed;
   block.self_calibrate = false;

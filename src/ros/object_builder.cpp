@@ -67,7 +67,7 @@ ClampFace FaceOfClamp(const ObjectConfig& config, const ClampConfig& clamp, doub
 core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& material,
                               std::shared_ptr<const core::SolidMesh> solid) {
   core::BodyRecipe recipe(material);
-  recipe.lattice = config.model;
+  recipe.lattice_kind = config.model;
   if (config.model == core::LatticeKind::kBaudet) {
     recipe.box_size = config.shape.size;
     recipe.centre_box = true;
@@ -75,17 +75,15 @@ core::BodyRecipe ObjectRecipe(const ObjectConfig& config, const core::Material& 
   } else {
     recipe.solid = std::move(solid);
   }
-  recipe.spacing = config.spacing;
+  recipe.lattice = config.lattice;
   recipe.target_nodes = config.target_nodes;
-  recipe.spring_law = config.spring;
   recipe.antialias = config.antialias;
-  recipe.free_face_bending = config.free_face_bending;
-  recipe.surface_dispersion = config.surface_dispersion;
+  recipe.surface = config.surface;
   recipe.seed = config.seed;
   recipe.random_self_calibrate = config.self_calibrate;
   for (const ClampConfig& clamp : config.clamps) {
     const ClampFace face = FaceOfClamp(config, clamp, core::RecipeSpacing(recipe));
-    if (face.fit == FaceFit::kFace) recipe.anchored_planes.push_back(face.plane);
+    if (face.fit == FaceFit::kFace) recipe.surface.anchored_planes.push_back(face.plane);
   }
   return recipe;
 }

@@ -225,25 +225,25 @@ void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig*
       config->shape.kind != core::BodyShape::Kind::kBox) {
     Fail(path + "/model", "baudet fills boxes only (shape type box)");
   }
-  config->spacing = NonNegative(object, "spacing", 0.0, path);
+  config->lattice.spacing = NonNegative(object, "spacing", 0.0, path);
   config->target_nodes =
       static_cast<int>(param::Count(object, "target_nodes", 0.0, core::kMaxBodyNodes, path));
-  if ((config->spacing > 0.0) == (config->target_nodes > 0)) {
+  if ((config->lattice.spacing > 0.0) == (config->target_nodes > 0)) {
     Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
   }
-  config->spring = ReadSpringLaw(object, path);
+  config->lattice.spring_law = ReadSpringLaw(object, path);
   config->antialias = Flag(object, "antialias", true, path);
-  config->free_face_bending = Flag(object, "free_face_bending", false, path);
-  if (config->free_face_bending && config->model != core::LatticeKind::kCubic) {
+  config->surface.free_face_bending = Flag(object, "free_face_bending", false, path);
+  if (config->surface.free_face_bending && config->model != core::LatticeKind::kCubic) {
     Fail(path + "/free_face_bending", "applies to cubic models only");
   }
-  config->surface_dispersion = Number(object, "surface_dispersion", 1.0, path);
-  if (!(config->surface_dispersion > 0.0 && config->surface_dispersion <= 1.0)) {
+  config->surface.surface_dispersion = Number(object, "surface_dispersion", 1.0, path);
+  if (!(config->surface.surface_dispersion > 0.0 && config->surface.surface_dispersion <= 1.0)) {
     Fail(path + "/surface_dispersion",
          "must lie in (0, 1] (the share of its bulk the outer node layer keeps; 1: off), got " +
-             std::to_string(config->surface_dispersion));
+             std::to_string(config->surface.surface_dispersion));
   }
-  if (config->surface_dispersion != 1.0 && config->model != core::LatticeKind::kCubic) {
+  if (config->surface.surface_dispersion != 1.0 && config->model != core::LatticeKind::kCubic) {
     Fail(path + "/surface_dispersion", "applies to cubic models only");
   }
   config->seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));

@@ -16,6 +16,7 @@
 #include "msm_sim/dynamics/world.h"
 #include "msm_sim/lattice/body_recipe.h"
 #include "msm_sim/lattice/body_shape.h"
+#include "msm_sim/lattice/lattice_options.h"
 #include "msm_sim/material/spring_law.h"
 
 namespace msm_sim::ros_interface {
@@ -54,13 +55,17 @@ struct ObjectConfig {
   core::BodyShape shape;  ///< YAML shape: type box | sphere | cylinder | mesh (uri, scale)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
   core::LatticeKind model = core::LatticeKind::kCubic;     ///< YAML: cubic | random | baudet
-  double spacing = 0.0;                                    ///< m; 0 with target_nodes > 0
+  /// The builders' shared options, handed to the object's BodyRecipe as they are. YAML:
+  /// spacing (m; 0 with target_nodes > 0) and spring (linear | nonlinear); the node limit and the
+  /// rotation keep LatticeOptions's defaults.
+  core::LatticeOptions lattice;
   int target_nodes = 0;  ///< choose the spacing for about this many nodes
-  core::SpringLaw spring = core::SpringLaw::kLinear;  ///< YAML: linear | nonlinear
   bool antialias = true;
-  bool free_face_bending = false;  ///< docs/physics.md §2.1; boxes of whole cells only
-  /// docs/physics.md §7: the share of its eMSM bulk the outer node layer keeps, in (0, 1]
-  double surface_dispersion = 1.0;
+  /// Cubic models' surface, handed to the BodyRecipe as it is. YAML: free_face_bending
+  /// (docs/physics.md §2.1; boxes of whole cells only) and surface_dispersion (docs/physics.md §7:
+  /// the share of its eMSM bulk the outer node layer keeps, in (0, 1]). Anchored planes come from
+  /// the clamps when the object is built (ObjectRecipe); compensate_surface keeps its default.
+  core::NodeCentredSurfaceOptions surface;
   std::uint64_t seed = 1;  ///< random models
   /// Random models: correct k and q by a virtual measurement (docs/physics.md §2.2); the scene's
   /// objects[]/self_calibrate, default kSelfCalibrateDefault. Ignored by other lattices.

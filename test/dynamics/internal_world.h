@@ -16,10 +16,11 @@ namespace msm_sim::core::internal {
 /// A 10 cm node-centred cubic block of 2.5 cm spacing (4 x 4 x 4 nodes), its lowest node at
 /// `corner`.
 inline std::shared_ptr<const Model> SmallBlock(const Eigen::Vector3d& corner) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d::Constant(0.1);
-  lattice.spacing = 0.025;
-  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d::Constant(0.1);
+  lattice_options.lattice.spacing = 0.025;
+  const Model model =
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice_options);
   const Eigen::Vector3d lowest = model.rest_positions().rowwise().minCoeff();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = corner - lowest;

@@ -17,7 +17,7 @@ namespace msm_sim::core {
 inline std::shared_ptr<const Model> SlidingBox(int n, double mass) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 1.0 / (n - 1);
+  options.lattice.spacing = 1.0 / (n - 1);
   options.construction = CubicConstruction::kElementCorner;
   return std::make_shared<Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, mass / 2.0), options));

@@ -70,12 +70,12 @@ double InvertedVerticalSprings(const Model& model, const Eigen::Matrix3Xd& x) {
 // at 1 m/s out of reach; the block then has 1 s.
 Squeeze SqueezeAndRelease(double poisson, SpringLaw law, double orientation_threshold = 0.0,
                           Integrator integrator = Integrator::kExplicit) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d::Constant(kSide);
-  lattice.spacing = kSpacing;
-  lattice.spring_law = law;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d::Constant(kSide);
+  lattice_options.lattice.spacing = kSpacing;
+  lattice_options.lattice.spring_law = law;
   const auto model = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options));
   WorldOptions options;
   options.gravity.setZero();
   // The step is stable for carrier springs down to 70 % of their length; at 30 % the tangent

@@ -26,16 +26,16 @@ const Eigen::Vector3d kBlockSize(0.1, 0.08, 0.04);  // m; base 0.1 x 0.08 at a =
 struct RestingBlock {
   RestingBlock(Integrator integrator, const Eigen::Vector3d& up_direction)
       : up(up_direction.normalized()) {
-    CubicLatticeOptions lattice;
-    lattice.size = kBlockSize;
-    lattice.spacing = 0.01;
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = kBlockSize;
+    lattice_options.lattice.spacing = 0.01;
     const Eigen::AngleAxisd tilt(Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up));
     if (tilt.angle() > 0.0) {
-      lattice.rotation_axis = tilt.axis();
-      lattice.rotation_angle = tilt.angle();
+      lattice_options.lattice.rotation_axis = tilt.axis();
+      lattice_options.lattice.rotation_angle = tilt.angle();
     }
     model = std::make_shared<const Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice));
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice_options));
     WorldOptions options;
     options.gravity = -kGravity * up;
     options.integrator = integrator;
@@ -174,11 +174,11 @@ INSTANTIATE_TEST_SUITE_P(BothIntegrators, ContactPatch,
 
 // Recording is off by default; the patch is reported all the same.
 TEST(ContactPoints, AreRecordedOnlyWhenAsked) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.04, 0.04, 0.02);
-  lattice.spacing = 0.01;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.04, 0.04, 0.02);
+  lattice_options.lattice.spacing = 0.01;
   const auto model = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice_options));
   World world;
   const int body = world.AddBody("block", model);
   world.AddCollider(GroundTouching(model->rest_positions(), world.border(body)));
@@ -193,11 +193,12 @@ TEST(ContactPoints, AreRecordedOnlyWhenAsked) {
 TEST(BorderNodes, SurfaceSharesOfAFlatSideSumToItsArea) {
   for (const CubicConstruction construction :
        {CubicConstruction::kNodeCentred, CubicConstruction::kElementCorner}) {
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d(0.1, 0.08, 0.04);
-    lattice.spacing = 0.01;
-    lattice.construction = construction;
-    const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice);
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = Eigen::Vector3d(0.1, 0.08, 0.04);
+    lattice_options.lattice.spacing = 0.01;
+    lattice_options.construction = construction;
+    const Model model =
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice_options);
     const BorderNodes border = FindBorderNodes(model);
     ASSERT_EQ(border.surface_shares.size(), border.nodes.size());
     const double bottom = model.rest_positions().row(2).minCoeff();

@@ -30,7 +30,7 @@ namespace {
 TEST(Sliding, StoppingDistanceIsIndependentOfResolutionShapeAndMass) {
   const SolidMesh cylinder_mesh(MakeCylinderMesh(0.4, 0.4, 64));
   MeshCubicLatticeOptions cylinder_lattice;
-  cylinder_lattice.spacing = 0.1;
+  cylinder_lattice.lattice.spacing = 0.1;
   const auto cylinder = std::make_shared<Model>(
       BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.3, 3.0 / cylinder_mesh.volume()),
                                cylinder_mesh, cylinder_lattice));
@@ -42,7 +42,7 @@ TEST(Sliding, StoppingDistanceIsIndependentOfResolutionShapeAndMass) {
 std::shared_ptr<const Model> Ball(double radius, double spacing, const Material& material) {
   const SolidMesh mesh(MakeIcosphereMesh(radius, 4));
   MeshCubicLatticeOptions options;
-  options.spacing = spacing;
+  options.lattice.spacing = spacing;
   return std::make_shared<Model>(BuildCubicLatticeInSolid(material, mesh, options));
 }
 
@@ -203,7 +203,7 @@ TEST(Contacts, NodeInAThirtyDegreeWedgeNeverPenetrates) {
 std::shared_ptr<const Model> Block(double size, double spacing, double youngs = 1e5) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d::Constant(size);
-  options.spacing = spacing;
+  options.lattice.spacing = spacing;
   return std::make_shared<Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(youngs, 0.3, 1000.0), options));
 }

@@ -26,8 +26,8 @@ std::shared_ptr<const Model> Block(const Eigen::Vector3d& size, double spacing, 
                                    SpringLaw law = SpringLaw::kLinear) {
   CubicLatticeOptions options;
   options.size = size;
-  options.spacing = spacing;
-  options.spring_law = law;
+  options.lattice.spacing = spacing;
+  options.lattice.spring_law = law;
   return std::make_shared<Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), options));
 }
@@ -157,14 +157,16 @@ TEST(ImplicitIntegrator, ClampedBlockUnderPushSettlesToTheStaticDeflection) {
 // both integrators: the anchors, held by the clamp, neither limit the explicit step nor upset
 // the implicit solve, and both settle onto the static deflection of the anchored model.
 TEST(ImplicitIntegrator, FaceClampedBlockSettlesToTheStaticDeflectionWithBothIntegrators) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.04, 0.04, 0.02);
-  lattice.spacing = 0.005;
-  lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.04, 0.04, 0.02);
+  lattice_options.lattice.spacing = 0.005;
+  lattice_options.surface.anchored_planes = {
+      AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
   for (const double poisson : {0.25, 0.49}) {
     const auto model = std::make_shared<const Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice));
-    const std::vector<NodeIndex> anchors = AnchorNodes(*model, lattice.anchored_planes[0]);
+        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice_options));
+    const std::vector<NodeIndex> anchors =
+        AnchorNodes(*model, lattice_options.surface.anchored_planes[0]);
     for (const bool implicit : {false, true}) {
       const SettledPush push =
           PushAndSettle(model, anchors, implicit ? ImplicitOptions(1e-3) : ExplicitOptions());

@@ -20,11 +20,11 @@ namespace {
 
 // 3.6 x 3.6 x 1.8 cm at a = 3 mm: 12 x 12 x 6 = 864 nodes, E = 100 kPa.
 std::shared_ptr<const Model> Block(double poisson) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.036, 0.036, 0.018);
-  lattice.spacing = 0.003;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.036, 0.036, 0.018);
+  lattice_options.lattice.spacing = 0.003;
   return std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options));
 }
 
 // The deepest overlap (m) of a border node's collision sphere with the collider:
@@ -322,11 +322,11 @@ TEST(PenetrationRecovery, TwoBodiesSpawnedOverlappingArePushedApart) {
                               NodesInHalfSpace(*block, Eigen::Vector3d(0.0, 0.0, bottom + 0.0015),
                                                Eigen::Vector3d::UnitZ()),
                               {}});
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d(0.012, 0.012, 0.012);
-    lattice.spacing = 0.003;
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = Eigen::Vector3d(0.012, 0.012, 0.012);
+    lattice_options.lattice.spacing = 0.003;
     const auto cube = std::make_shared<const Model>(
-        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice));
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options));
     const int above = world.AddBody("cube", cube, body_options);
     // Touching would put the cube's lowest layer 2r above the block's top layer; half a spacing
     // lower they overlap by 1.5 mm.

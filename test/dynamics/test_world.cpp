@@ -88,11 +88,12 @@ TEST(ForceEvaluator, DampersPullWithBetaKTimesTheStretchRate) {
 }
 
 TEST(StableTimeStep, MatchesTheLargestEigenfrequency) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.3, 0.2, 0.2);
-  lattice.spacing = 0.05;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.3, 0.2, 0.2);
+  lattice_options.lattice.spacing = 0.05;
   for (const double nu : {0.25, 0.45}) {
-    const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, nu, 1000.0), lattice);
+    const Model model =
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, nu, 1000.0), lattice_options);
     // Dense M^-1/2 K M^-1/2, column by column.
     ForceEvaluator evaluator(model);
     evaluator.Linearize(model.rest_positions());
@@ -119,10 +120,11 @@ TEST(StableTimeStep, MatchesTheLargestEigenfrequency) {
 }
 
 TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d::Constant(0.4);
-  lattice.spacing = 0.1;  // 4 x 4 x 4 nodes, 8 inside
-  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), lattice);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d::Constant(0.4);
+  lattice_options.lattice.spacing = 0.1;  // 4 x 4 x 4 nodes, 8 inside
+  const Model model =
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), lattice_options);
   const BorderNodes border = FindBorderNodes(model);
   EXPECT_EQ(border.nodes.size(), 56u);
   for (std::size_t k = 0; k < border.nodes.size(); ++k) {
@@ -140,7 +142,7 @@ TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
 TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
   const double radius = 1.0, a = 0.1;
   MeshCubicLatticeOptions options;
-  options.spacing = a;
+  options.lattice.spacing = a;
   const Model model = BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.3, 1000.0),
                                                SolidMesh(MakeIcosphereMesh(radius, 4)), options);
   const BorderNodes border = FindBorderNodes(model);
@@ -157,7 +159,7 @@ TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
   // Whole cells keep their radii: an aligned box has no insets.
   CubicLatticeOptions box;
   box.size = Eigen::Vector3d::Constant(0.4);
-  box.spacing = 0.1;
+  box.lattice.spacing = 0.1;
   EXPECT_EQ(BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), box)
                 .surface_insets()
                 .maxCoeff(),
@@ -181,11 +183,11 @@ TEST(BorderNodes, SphereTouchdownHeightIsWhereTheSphereFirstTouches) {
 }
 
 std::shared_ptr<const Model> Block() {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d::Constant(0.2);
-  lattice.spacing = 0.04;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d::Constant(0.2);
+  lattice_options.lattice.spacing = 0.04;
   return std::make_shared<Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), lattice_options));
 }
 
 // The clamp's reaction balances a static push and the weight (Newton's third law).
@@ -230,13 +232,15 @@ TEST(World, ClampReactionBalancesAStaticPush) {
 // layer: the anchors' token masses leave the stable step once the clamp holds them, the
 // reaction balances a static push and the weight, and the anchors stay on the face.
 TEST(World, FaceAnchoredClampBalancesAStaticPush) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.2, 0.2, 0.2);
-  lattice.spacing = 0.04;
-  lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.2, 0.2, 0.2);
+  lattice_options.lattice.spacing = 0.04;
+  lattice_options.surface.anchored_planes = {
+      AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
   const auto block = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(5e4, 0.3, 1000.0), lattice));
-  const std::vector<NodeIndex> anchors = AnchorNodes(*block, lattice.anchored_planes[0]);
+      BuildCubicLattice(Material::FromYoungsPoisson(5e4, 0.3, 1000.0), lattice_options));
+  const std::vector<NodeIndex> anchors =
+      AnchorNodes(*block, lattice_options.surface.anchored_planes[0]);
   ASSERT_EQ(anchors.size(), 25u + 2u * 5u * 6u);
   World world;
   BodyOptions options;
@@ -304,11 +308,11 @@ struct SharedRun {
 // Adds a block of 1,152 nodes (above the node-share threshold), with dampers and restitution
 // 0.5, 1 mm above the ground to `world`; returns its body index.
 int AddBlockAboveGround(World* world) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.06, 0.06, 0.04);
-  lattice.spacing = 0.005;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.06, 0.06, 0.04);
+  lattice_options.lattice.spacing = 0.005;
   const auto block = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice_options));
   EXPECT_GE(block->num_nodes(), 1'000);
   BodyOptions body_options;
   body_options.damping_beta = 1e-4;

@@ -8,9 +8,9 @@
 // the first layer a bulk layer. Without the free faces' bending correction the lattice's bending
 // stiffness is low by (2/3)/n^2 + (1/3)(10/n^2 - 12/n^3) (n cells across; its outermost springs
 // sit half a cell inside the free faces), +20..+24 % at 4 across and +6 % at 8. With it
-// (CubicLatticeOptions::free_face_bending, off by default in the library, on here unless a Case
-// says otherwise) the end face is within 3 % of CalculiX at 4, 8 and 16 across, except nu = 0 at
-// 4 across: +3.4 %.
+// (NodeCentredSurfaceOptions::free_face_bending, off by default in the library, on here unless a
+// Case says otherwise) the end face is within 3 % of CalculiX at 4, 8 and 16 across, except nu = 0
+// at 4 across: +3.4 %.
 #include <unistd.h>
 
 #include <algorithm>
@@ -54,11 +54,11 @@ const CalculixCantileverResult& Reference(double poisson) {
 Model AnchoredBar(double poisson, int cells_across, bool free_face_bending,
                   double surface_dispersion = 1.0) {
   CubicLatticeOptions options;
-  options.free_face_bending = free_face_bending;
-  options.surface_dispersion = surface_dispersion;
+  options.surface.free_face_bending = free_face_bending;
+  options.surface.surface_dispersion = surface_dispersion;
   options.size = Eigen::Vector3d(kLength, kSide, kSide);
-  options.spacing = kSide / cells_across;
-  options.anchored_planes = {AnchoredPlane{}};  // the face x = 0
+  options.lattice.spacing = kSide / cells_across;
+  options.surface.anchored_planes = {AnchoredPlane{}};  // the face x = 0
   return BuildCubicLattice(Material::FromYoungsPoisson(kYoungs, poisson, 1000.0), options);
 }
 
@@ -75,7 +75,7 @@ struct Case {
   double poisson;
   int cells_across;
   bool free_face_bending = true;
-  double surface_dispersion = 1.0;  // CubicLatticeOptions::surface_dispersion
+  double surface_dispersion = 1.0;  // NodeCentredSurfaceOptions::surface_dispersion
 };
 
 struct Comparison {
@@ -154,7 +154,7 @@ TEST_P(CantileverFacesCoarse, WithoutTheCorrectionTheErrorIsTheBendingDeficit) {
 
 INSTANTIATE_TEST_SUITE_P(IssueBox, CantileverFacesCoarse, ::testing::Values(0.0, 0.25, 0.4, 0.49));
 
-// The softer outer layer (CubicLatticeOptions::surface_dispersion = 0.5, docs/physics.md §7)
+// The softer outer layer (NodeCentredSurfaceOptions::surface_dispersion = 0.5, docs/physics.md §7)
 // where it is recommended, nu = 0.49: bending stresses peak in the outer layer, whose bulk it
 // halves, yet 8 cells across still bend within 3 % of CalculiX (measured +1.2 %, +0.6 % without).
 TEST(CantileverFacesSofterOuterLayer, WithinThreePercentOfCalculixAtEightCellsAcrossAtNu049) {

@@ -23,8 +23,8 @@ std::shared_ptr<const Model> Object(std::shared_ptr<const SolidMesh> solid, doub
                                     double poisson, double surface_dispersion = 1.0) {
   BodyRecipe recipe(Material::FromYoungsPoisson(259e3, poisson, 1070.0));
   recipe.solid = std::move(solid);
-  recipe.spacing = spacing;
-  recipe.surface_dispersion = surface_dispersion;
+  recipe.lattice.spacing = spacing;
+  recipe.surface.surface_dispersion = surface_dispersion;
   return std::make_shared<const Model>(BuildModel(recipe));
 }
 

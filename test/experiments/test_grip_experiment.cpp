@@ -17,12 +17,12 @@ namespace {
 // 4 x 4 x 4 cm at a = 5 mm: 512 nodes, E = 200 kPa, nu = 0.45, rho = 1100 (70 g). The jaws
 // squeeze it by 0.2 mm each (1 % of its width).
 std::shared_ptr<const Model> GripBlock(double poisson = 0.45, double surface_dispersion = 1.0) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.04, 0.04, 0.04);
-  lattice.spacing = 0.005;
-  lattice.surface_dispersion = surface_dispersion;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.04, 0.04, 0.04);
+  lattice_options.lattice.spacing = 0.005;
+  lattice_options.surface.surface_dispersion = surface_dispersion;
   return std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice_options));
 }
 
 GripExperimentResult RunGrip(Integrator integrator, double ratio,
@@ -73,9 +73,9 @@ TEST(GripExperiment, ImplicitDropsAtZeroPointSixWeights) {
   ExpectDropped(RunGrip(Integrator::kImplicit, 0.6));
 }
 
-// The softer outer layer (CubicLatticeOptions::surface_dispersion, docs/physics.md §7) where it
-// is recommended, nu = 0.49: the jaws squeeze the outer layer, and the grip still holds and drops
-// as it should (measured: slip 0.054 mm in 2 s at 1.3 m g, as 0.055 mm without it).
+// The softer outer layer (NodeCentredSurfaceOptions::surface_dispersion, docs/physics.md §7) where
+// it is recommended, nu = 0.49: the jaws squeeze the outer layer, and the grip still holds and
+// drops as it should (measured: slip 0.054 mm in 2 s at 1.3 m g, as 0.055 mm without it).
 TEST(GripExperiment, ExplicitWithASofterOuterLayerHoldsAndDropsAtNu049) {
   for (const double share : {0.5, 0.25}) {
     SCOPED_TRACE(share);

@@ -14,11 +14,11 @@ namespace {
 
 // 3.6 x 3.6 x 1.8 cm at a = 3 mm: 12 x 12 x 6 = 864 nodes, E = 100 kPa (the block).
 std::shared_ptr<const Model> Block(double poisson) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.036, 0.036, 0.018);
-  lattice.spacing = 0.003;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.036, 0.036, 0.018);
+  lattice_options.lattice.spacing = 0.003;
   return std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options));
 }
 
 IndentationExperimentOptions Sphere8mm(Integrator integrator) {

@@ -22,12 +22,12 @@ constexpr double kSpacing = 0.00055;       // a = sqrt(R D) / 4.07
 constexpr double kSide = 41 * kSpacing;    // 22.55 mm >= 10 sqrt(R D) = 22.36 mm
 
 void ExpectHertz(double poisson, double surface_dispersion = 1.0) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d::Constant(kSide);
-  lattice.spacing = kSpacing;
-  lattice.surface_dispersion = surface_dispersion;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d::Constant(kSide);
+  lattice_options.lattice.spacing = kSpacing;
+  lattice_options.surface.surface_dispersion = surface_dispersion;
   const auto model = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options));
   ASSERT_EQ(model->num_nodes(), 41 * 41 * 41);
   IndentationExperimentOptions options;
   options.sphere_radius = kRadius;
@@ -54,7 +54,7 @@ TEST(HertzContact, SphereIntoABlockTenContactRadiiWideMatchesHertzAtNu025) { Exp
 
 TEST(HertzContact, SphereIntoABlockTenContactRadiiWideMatchesHertzAtNu045) { ExpectHertz(0.45); }
 
-// The softer outer layer (CubicLatticeOptions::surface_dispersion, docs/physics.md §7) at the
+// The softer outer layer (NodeCentredSurfaceOptions::surface_dispersion, docs/physics.md §7) at the
 // nu where it is meant to be used: the contact, resolved, still matches Hertz (measured 0.939
 // at 0.48 mm against 0.943 without it).
 TEST(HertzContact, WithASofterOuterLayerMatchesHertzAtNu049) { ExpectHertz(0.49, 0.5); }

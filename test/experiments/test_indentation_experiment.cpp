@@ -16,11 +16,11 @@ namespace {
 
 // 6 x 6 x 3 cm at a = 5 mm: 12 x 12 x 6 = 864 nodes, E = 200 kPa.
 std::shared_ptr<const Model> CoarseBlock(double poisson) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.06, 0.06, 0.03);
-  lattice.spacing = 0.005;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.06, 0.06, 0.03);
+  lattice_options.lattice.spacing = 0.005;
   return std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice_options));
 }
 
 TEST(HertzForce, MatchesTheFormulaByHand) {

@@ -35,7 +35,7 @@ TEST(MomentumFlow, MatchesTheElasticConstantUnderUniformStrain) {
   // Element-corner lattice: sigma_xx = (lambda + 2 mu) eps_xx = 3 mu eps exactly (lambda = mu).
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 0.125;
+  options.lattice.spacing = 0.125;
   options.construction = CubicConstruction::kElementCorner;
   const Model model = BuildCubicLattice(kMaterial, options);
   const double eps = 1e-7;
@@ -44,7 +44,7 @@ TEST(MomentumFlow, MatchesTheElasticConstantUnderUniformStrain) {
   const Eigen::Matrix3Xd x = Affine(model, strain, centre);
   const double mu = kMaterial.youngs_modulus() / 2.5;
   // The cut through the middle and one between layers give the same, exact force.
-  for (const double plane_x : {1.0, 1.0 + 0.5 * options.spacing}) {
+  for (const double plane_x : {1.0, 1.0 + 0.5 * options.lattice.spacing}) {
     const Eigen::Vector3d flow = MomentumFlowThroughPlane(
         model, x, Tensions(model, x),
         MaterialPlane{Eigen::Vector3d(plane_x, 0.5, 0.5), Eigen::Vector3d::UnitX()});
@@ -56,7 +56,7 @@ TEST(MomentumFlow, MatchesTheElasticConstantUnderUniformStrain) {
 TEST(HardyStress, ConvergesToTheContinuumStressWithProbeSize) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 2.0, 2.0);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const Model model = BuildCubicLattice(kMaterial, options);
   const double eps = 1e-7;
   const Eigen::Matrix3d strain = Eigen::Vector3d(eps, 0, 0).asDiagonal();
@@ -65,11 +65,13 @@ TEST(HardyStress, ConvergesToTheContinuumStressWithProbeSize) {
   const double mu = kMaterial.youngs_modulus() / 2.5;
   // Tension positive: a stretched lattice has positive sigma_xx = 3 mu eps, sigma_yy = mu eps.
   const Eigen::VectorXd tensions = Tensions(model, x);
-  const Eigen::Matrix3d wide = HardyStress(model, x, tensions, centre, 5.0 * options.spacing);
+  const Eigen::Matrix3d wide =
+      HardyStress(model, x, tensions, centre, 5.0 * options.lattice.spacing);
   EXPECT_NEAR(wide(0, 0) / (3.0 * mu * eps), 1.0, 0.03);
   EXPECT_NEAR(wide(1, 1) / (mu * eps), 1.0, 0.05);
   EXPECT_NEAR(wide(0, 1) / (mu * eps), 0.0, 0.02);
-  const Eigen::Matrix3d probe = HardyStress(model, x, tensions, centre, 1.3 * options.spacing);
+  const Eigen::Matrix3d probe =
+      HardyStress(model, x, tensions, centre, 1.3 * options.lattice.spacing);
   EXPECT_NEAR(probe(0, 0) / (3.0 * mu * eps), 1.0, 0.1);
 }
 
@@ -85,9 +87,9 @@ TEST(HardyStress, SegmentFractionInsideBall) {
 TEST(StrainProbe, RecoversAnAffineStrainExactly) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(1.0, 1.0, 1.0);
-  options.spacing = 0.125;
-  options.rotation_axis = Eigen::Vector3d(1, 2, 3);
-  options.rotation_angle = 0.4;
+  options.lattice.spacing = 0.125;
+  options.lattice.rotation_axis = Eigen::Vector3d(1, 2, 3);
+  options.lattice.rotation_angle = 0.4;
   const Model model = BuildCubicLattice(kMaterial, options);
   Eigen::Matrix3d gradient;
   gradient << 1e-3, 2e-4, -3e-4, 5e-4, -2e-3, 1e-4, 0.0, 7e-4, 4e-4;
@@ -112,7 +114,7 @@ TEST(StressCorrectedPoisson, InvertsHookesLawForAnyStressState) {
 TEST(CompressionTest, RejectsImpossibleSetUps) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.5, 1.0, 1.0);
-  options.spacing = 0.125;
+  options.lattice.spacing = 0.125;
   const Model model = BuildCubicLattice(kMaterial, options);
   CompressionExperimentOptions test;
   test.body_size = options.size;
@@ -125,7 +127,7 @@ TEST(CompressionTest, RejectsImpossibleSetUps) {
 TEST(CompressionTest, ReadsWhatTheUniaxialCompressionMeasures) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 0.125;
+  options.lattice.spacing = 0.125;
   const Model model = BuildCubicLattice(kMaterial, options);
   CompressionExperimentOptions test;
   test.body_size = options.size;
@@ -150,7 +152,7 @@ namespace {
 TEST(Tetrahedralization, FillsTheHullWithPositiveTetrahedraAndDetectsInversion) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.3, 0.3);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const Model model = BuildCubicLattice(kMaterial, options);
   const std::vector<Tetrahedron> tetrahedra = DelaunayTetrahedra(model.rest_positions());
   double volume = 0.0;

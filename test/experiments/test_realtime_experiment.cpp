@@ -15,11 +15,11 @@ namespace {
 
 // 4 x 4 x 2 cm at a = 5 mm: 8 x 8 x 4 = 256 nodes, E = 200 kPa, rho = 1100.
 std::shared_ptr<const Model> SmallBlock() {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.04, 0.04, 0.02);
-  lattice.spacing = 0.005;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.04, 0.04, 0.02);
+  lattice_options.lattice.spacing = 0.005;
   return std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), lattice_options));
 }
 
 TEST(RealtimeExperiment, ReportsTheModelStepsAndContactForce) {
@@ -66,12 +66,12 @@ TEST(RealtimeExperiment, SinglePrecisionSpringsPressTheSame) {
 // run completes, and after the snap the force on the sphere matches a run at 0.6 of the stable
 // step (which resolves the snap without help) within 5 % of the peak.
 TEST(RealtimeExperiment, ADeepPressThatBucklesTheLatticeRunsThrough) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.1, 0.1, 0.05);
-  lattice.spacing = 0.004;
-  lattice.surface_dispersion = 0.25;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.1, 0.1, 0.05);
+  lattice_options.lattice.spacing = 0.004;
+  lattice_options.surface.surface_dispersion = 0.25;
   const auto block = std::make_shared<const Model>(
-      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.49, 1100.0), lattice));
+      BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.49, 1100.0), lattice_options));
   ASSERT_EQ(block->num_nodes(), 8125);
   RealtimeExperimentOptions options;
   options.seconds = 0.95;

@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   }
   msm_sim::core::CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.2, 0.2, 0.2);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   msm_sim::core::SaveModel(
       msm_sim::core::BuildCubicLattice(msm_sim::core::Material::FromYoungsPoisson(1e5, 0.3, 1000.0),
                                        options),

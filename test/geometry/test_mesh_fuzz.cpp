@@ -43,7 +43,7 @@ std::string ReadBytes(const std::string& path) {
 std::string ModelFileBytes() {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.2, 0.2, 0.2);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const std::string path = ::testing::TempDir() + "fuzz_base.msm";
   SaveModel(BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), options), path);
   return ReadBytes(path);

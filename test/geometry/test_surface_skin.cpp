@@ -22,11 +22,11 @@ const Material kMaterial = Material::FromYoungsPoisson(1e5, 0.3, 1000.0);
 std::vector<Model> SphereModels() {
   const SolidMesh coarse(MakeIcosphereMesh(1.0, 3));
   MeshCubicLatticeOptions cubic;
-  cubic.spacing = 0.25;
-  cubic.rotation_axis = Eigen::Vector3d(1, 1, 0);
-  cubic.rotation_angle = 0.4;
+  cubic.lattice.spacing = 0.25;
+  cubic.lattice.rotation_axis = Eigen::Vector3d(1, 1, 0);
+  cubic.lattice.rotation_angle = 0.4;
   RandomLatticeOptions random;
-  random.spacing = 0.25;
+  random.lattice.spacing = 0.25;
   random.max_distance = 1.9;
   std::vector<Model> models;
   models.push_back(BuildCubicLatticeInSolid(kMaterial, coarse, cubic));

@@ -15,7 +15,7 @@ constexpr double kYoungs = 1e5;
 CompressionExperimentResult CompressBaudet(double poisson, bool correction) {
   BaudetLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 1.0 / 12.0;
+  options.lattice.spacing = 1.0 / 12.0;
   options.orthogonal_correction = correction;
   const Model model =
       BuildBaudetLattice(Material::FromYoungsPoisson(kYoungs, poisson, 1100.0), options);

@@ -127,34 +127,34 @@ TEST(BodyShape, MeshFilesAreScaled) {
 TEST(BodyRecipe, CubicBoxIsBuildCubicLattice) {
   BodyRecipe recipe(kMaterial);
   recipe.box_size = kBox;
-  recipe.spacing = 0.1;
+  recipe.lattice.spacing = 0.1;
   recipe.construction = CubicConstruction::kElementCorner;
-  recipe.spring_law = SpringLaw::kNonlinear;
-  recipe.rotation_axis = Eigen::Vector3d(1.0, 1.0, 0.0);
-  recipe.rotation_angle = 0.3;
+  recipe.lattice.spring_law = SpringLaw::kNonlinear;
+  recipe.lattice.rotation_axis = Eigen::Vector3d(1.0, 1.0, 0.0);
+  recipe.lattice.rotation_angle = 0.3;
   CubicLatticeOptions options;
   options.size = kBox;
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   options.construction = CubicConstruction::kElementCorner;
-  options.spring_law = SpringLaw::kNonlinear;
-  options.rotation_axis = Eigen::Vector3d(1.0, 1.0, 0.0);
-  options.rotation_angle = 0.3;
+  options.lattice.spring_law = SpringLaw::kNonlinear;
+  options.lattice.rotation_axis = Eigen::Vector3d(1.0, 1.0, 0.0);
+  options.lattice.rotation_angle = 0.3;
   ExpectSameModel(BuildModel(recipe), BuildCubicLattice(kMaterial, options));
 
   // The defaults: node-centred, linear, not rotated.
   BodyRecipe plain(kMaterial);
   plain.box_size = kBox;
-  plain.spacing = 0.1;
+  plain.lattice.spacing = 0.1;
   options = CubicLatticeOptions();
   options.size = kBox;
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const Model model = BuildModel(plain);
   EXPECT_EQ(model.num_nodes(), 6 * 4 * 3);
   ExpectSameModel(model, BuildCubicLattice(kMaterial, options));
 
   // The free faces' bending correction is passed on (and changes the model: 6 and 4 cells).
-  plain.free_face_bending = true;
-  options.free_face_bending = true;
+  plain.surface.free_face_bending = true;
+  options.surface.free_face_bending = true;
   const Model corrected = BuildModel(plain);
   ExpectSameModel(corrected, BuildCubicLattice(kMaterial, options));
   EXPECT_NE(corrected.spring_stiffness(), model.spring_stiffness());
@@ -162,17 +162,17 @@ TEST(BodyRecipe, CubicBoxIsBuildCubicLattice) {
 
 TEST(BodyRecipe, RandomBoxIsBuildRandomLattice) {
   BodyRecipe recipe(kMaterial);
-  recipe.lattice = LatticeKind::kRandom;
+  recipe.lattice_kind = LatticeKind::kRandom;
   recipe.box_size = kBox;
-  recipe.spacing = 0.08;
+  recipe.lattice.spacing = 0.08;
   recipe.seed = 7;
   recipe.random_min_distance = 0.75;
   recipe.random_max_distance = 1.8;
   recipe.stiffness_law = RandomStiffnessLaw::kUniform;
-  recipe.rotation_angle = 0.5;  // ignored by random lattices
+  recipe.lattice.rotation_angle = 0.5;  // ignored by random lattices
   RandomLatticeOptions options;
   options.size = kBox;
-  options.spacing = 0.08;
+  options.lattice.spacing = 0.08;
   options.seed = 7;
   options.min_distance = 0.75;
   options.max_distance = 1.8;
@@ -181,12 +181,12 @@ TEST(BodyRecipe, RandomBoxIsBuildRandomLattice) {
 
   // The recipe's defaults are the front ends' choice: maxL 1.9 l, not the builder's 1.7.
   BodyRecipe defaults(kMaterial);
-  defaults.lattice = LatticeKind::kRandom;
+  defaults.lattice_kind = LatticeKind::kRandom;
   defaults.box_size = kBox;
-  defaults.spacing = 0.08;
+  defaults.lattice.spacing = 0.08;
   RandomLatticeOptions with_max = RandomLatticeOptions();
   with_max.size = kBox;
-  with_max.spacing = 0.08;
+  with_max.lattice.spacing = 0.08;
   with_max.max_distance = 1.9;
   ExpectSameModel(BuildModel(defaults), BuildRandomLattice(kMaterial, with_max));
 }
@@ -196,11 +196,11 @@ TEST(BodyRecipe, RandomBoxIsBuildRandomLattice) {
 // not used. The correction here is made up (factor 2), so that its use shows in the springs.
 TEST(BodyRecipe, RandomReusesASelfCalibrationMeasuredForItsConditions) {
   BodyRecipe recipe(kMaterial);
-  recipe.lattice = LatticeKind::kRandom;
+  recipe.lattice_kind = LatticeKind::kRandom;
   recipe.box_size = kBox;
-  recipe.spacing = 0.08;
+  recipe.lattice.spacing = 0.08;
   RandomLatticeOptions options;
-  options.spacing = 0.08;
+  options.lattice.spacing = 0.08;
   options.max_distance = recipe.random_max_distance;
   RandomSelfCalibration made_up{2.0, 0.1, 9e4,
                                 0.3, 1,   RandomSelfCalibrationConditions(kMaterial, options)};
@@ -244,16 +244,16 @@ TEST(BodyRecipe, RandomReusesASelfCalibrationMeasuredForItsConditions) {
 
 TEST(BodyRecipe, BaudetBoxIsBuildBaudetLatticeAndCentresOnRequest) {
   BodyRecipe recipe(kMaterial);
-  recipe.lattice = LatticeKind::kBaudet;
+  recipe.lattice_kind = LatticeKind::kBaudet;
   recipe.box_size = kBox;
-  recipe.spacing = 0.1;
-  recipe.rotation_axis = Eigen::Vector3d::UnitX();
-  recipe.rotation_angle = 0.2;
+  recipe.lattice.spacing = 0.1;
+  recipe.lattice.rotation_axis = Eigen::Vector3d::UnitX();
+  recipe.lattice.rotation_angle = 0.2;
   BaudetLatticeOptions options;
   options.size = kBox;
-  options.spacing = 0.1;
-  options.rotation_axis = Eigen::Vector3d::UnitX();
-  options.rotation_angle = 0.2;
+  options.lattice.spacing = 0.1;
+  options.lattice.rotation_axis = Eigen::Vector3d::UnitX();
+  options.lattice.rotation_angle = 0.2;
   const Model brick = BuildBaudetLattice(kMaterial, options);
   ExpectSameModel(BuildModel(recipe), brick);
 
@@ -270,24 +270,24 @@ TEST(BodyRecipe, BaudetBoxIsBuildBaudetLatticeAndCentresOnRequest) {
 TEST(BodyRecipe, RotatedCubicBoxIsAntiAliasedThroughTheBoxAsASolid) {
   BodyRecipe recipe(kMaterial);
   recipe.box_size = kBox;
-  recipe.spacing = 0.1;
-  recipe.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
-  recipe.rotation_angle = 37.0 * M_PI / 180.0;
+  recipe.lattice.spacing = 0.1;
+  recipe.lattice.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
+  recipe.lattice.rotation_angle = 37.0 * M_PI / 180.0;
   TriangleMesh box = MakeBoxMesh(kBox);
   box.vertices.colwise() += 0.5 * kBox;
   MeshCubicLatticeOptions through_solid;
-  through_solid.spacing = 0.1;
-  through_solid.rotation_axis = recipe.rotation_axis;
-  through_solid.rotation_angle = recipe.rotation_angle;
+  through_solid.lattice.spacing = 0.1;
+  through_solid.lattice.rotation_axis = recipe.lattice.rotation_axis;
+  through_solid.lattice.rotation_angle = recipe.lattice.rotation_angle;
   ExpectSameModel(BuildModel(recipe),
                   BuildCubicLatticeInSolid(kMaterial, SolidMesh(box), through_solid));
 
   recipe.antialias = false;
   CubicLatticeOptions whole_cells;
   whole_cells.size = kBox;
-  whole_cells.spacing = 0.1;
-  whole_cells.rotation_axis = recipe.rotation_axis;
-  whole_cells.rotation_angle = recipe.rotation_angle;
+  whole_cells.lattice.spacing = 0.1;
+  whole_cells.lattice.rotation_axis = recipe.lattice.rotation_axis;
+  whole_cells.lattice.rotation_angle = recipe.lattice.rotation_angle;
   ExpectSameModel(BuildModel(recipe), BuildCubicLattice(kMaterial, whole_cells));
 }
 
@@ -296,16 +296,16 @@ TEST(BodyRecipe, RotatedCubicBoxIsAntiAliasedThroughTheBoxAsASolid) {
 TEST(BodyRecipe, CubicSolidIsBuildCubicLatticeInSolid) {
   BodyRecipe recipe(kMaterial);
   recipe.solid = BoxSolid(kBox);
-  recipe.spacing = 0.07;
+  recipe.lattice.spacing = 0.07;
   recipe.antialias = false;
-  recipe.rotation_axis = Eigen::Vector3d::UnitY();
-  recipe.rotation_angle = 0.1;
+  recipe.lattice.rotation_axis = Eigen::Vector3d::UnitY();
+  recipe.lattice.rotation_angle = 0.1;
   recipe.box_size = Eigen::Vector3d::Constant(5.0);  // ignored with a solid
   MeshCubicLatticeOptions options;
-  options.spacing = 0.07;
+  options.lattice.spacing = 0.07;
   options.antialias = false;
-  options.rotation_axis = Eigen::Vector3d::UnitY();
-  options.rotation_angle = 0.1;
+  options.lattice.rotation_axis = Eigen::Vector3d::UnitY();
+  options.lattice.rotation_angle = 0.1;
   ExpectSameModel(BuildModel(recipe), BuildCubicLatticeInSolid(kMaterial, *recipe.solid, options));
 
   recipe.antialias = true;
@@ -314,13 +314,13 @@ TEST(BodyRecipe, CubicSolidIsBuildCubicLatticeInSolid) {
 
   // A box solid aligned with its lattice fills whole cells (6 x 4 x 3 at 0.1 m): the free faces'
   // bending correction applies there as in the box builder.
-  recipe.rotation_angle = 0.0;
-  recipe.spacing = 0.1;
-  options.rotation_angle = 0.0;
-  options.spacing = 0.1;
+  recipe.lattice.rotation_angle = 0.0;
+  recipe.lattice.spacing = 0.1;
+  options.lattice.rotation_angle = 0.0;
+  options.lattice.spacing = 0.1;
   const Model plain = BuildModel(recipe);
-  recipe.free_face_bending = true;
-  options.free_face_bending = true;
+  recipe.surface.free_face_bending = true;
+  options.surface.free_face_bending = true;
   const Model corrected = BuildModel(recipe);
   ExpectSameModel(corrected, BuildCubicLatticeInSolid(kMaterial, *recipe.solid, options));
   EXPECT_NE(corrected.spring_stiffness(), plain.spring_stiffness());
@@ -331,12 +331,12 @@ TEST(BodyRecipe, RandomSolidIsBuildRandomLatticeInSolid) {
   sphere.kind = BodyShape::Kind::kSphere;
   sphere.radius = 0.25;
   BodyRecipe recipe(kMaterial);
-  recipe.lattice = LatticeKind::kRandom;
+  recipe.lattice_kind = LatticeKind::kRandom;
   recipe.solid = std::make_shared<const SolidMesh>(MakeBodySolid(sphere));
-  recipe.spacing = 0.06;
+  recipe.lattice.spacing = 0.06;
   recipe.seed = 3;
   RandomLatticeOptions options;
-  options.spacing = 0.06;
+  options.lattice.spacing = 0.06;
   options.seed = 3;
   options.max_distance = 1.9;
   const Model model = BuildModel(recipe);
@@ -351,12 +351,12 @@ TEST(BodyRecipe, TargetNodesChooseTheSpacingFromTheVolume) {
   // A box: V = size.prod().
   BodyRecipe box(kMaterial);
   box.box_size = kBox;
-  box.spacing = 123.0;  // ignored
+  box.lattice.spacing = 123.0;  // ignored
   box.target_nodes = 500;
   const double box_spacing = std::cbrt(kBox.prod() / 500);
   CubicLatticeOptions options;
   options.size = kBox;
-  options.spacing = box_spacing;
+  options.lattice.spacing = box_spacing;
   const Model model = BuildModel(box);
   EXPECT_EQ(model.characteristic_length(), box_spacing);
   ExpectSameModel(model, BuildCubicLattice(kMaterial, options));
@@ -366,19 +366,19 @@ TEST(BodyRecipe, TargetNodesChooseTheSpacingFromTheVolume) {
   solid.solid = BoxSolid(kBox);
   solid.target_nodes = 400;
   MeshCubicLatticeOptions mesh_options;
-  mesh_options.spacing = std::cbrt(solid.solid->volume() / 400);
+  mesh_options.lattice.spacing = std::cbrt(solid.solid->volume() / 400);
   ExpectSameModel(BuildModel(solid),
                   BuildCubicLatticeInSolid(kMaterial, *solid.solid, mesh_options));
 
   // An explicit volume overrides the region's.
   BodyRecipe baudet(kMaterial);
-  baudet.lattice = LatticeKind::kBaudet;
+  baudet.lattice_kind = LatticeKind::kBaudet;
   baudet.box_size = kBox;
   baudet.target_nodes = 300;
   baudet.target_volume = 0.8 * kBox.prod();
   BaudetLatticeOptions baudet_options;
   baudet_options.size = kBox;
-  baudet_options.spacing = std::cbrt(0.8 * kBox.prod() / 300);
+  baudet_options.lattice.spacing = std::cbrt(0.8 * kBox.prod() / 300);
   ExpectSameModel(BuildModel(baudet), BuildBaudetLattice(kMaterial, baudet_options));
 }
 
@@ -395,7 +395,7 @@ void ExpectInvalid(const BodyRecipe& recipe, const std::string& mentions) {
 
 TEST(BodyRecipe, RejectsCombinationsNoBuilderTakes) {
   BodyRecipe baudet_in_solid(kMaterial);
-  baudet_in_solid.lattice = LatticeKind::kBaudet;
+  baudet_in_solid.lattice_kind = LatticeKind::kBaudet;
   baudet_in_solid.solid = BoxSolid(kBox);
   ExpectInvalid(baudet_in_solid, "boxes only");
 
@@ -411,14 +411,14 @@ TEST(BodyRecipe, RejectsCombinationsNoBuilderTakes) {
 
   BodyRecipe random_bending(kMaterial);
   random_bending.box_size = kBox;
-  random_bending.lattice = LatticeKind::kRandom;
-  random_bending.free_face_bending = true;
+  random_bending.lattice_kind = LatticeKind::kRandom;
+  random_bending.surface.free_face_bending = true;
   ExpectInvalid(random_bending, "bending correction is for node-centred cubic lattices");
 
   BodyRecipe random_softer(kMaterial);
   random_softer.box_size = kBox;
-  random_softer.lattice = LatticeKind::kRandom;
-  random_softer.surface_dispersion = 0.5;
+  random_softer.lattice_kind = LatticeKind::kRandom;
+  random_softer.surface.surface_dispersion = 0.5;
   ExpectInvalid(random_softer, "surface_dispersion is for node-centred cubic lattices");
 
   BodyRecipe negative_count(kMaterial);
@@ -436,17 +436,17 @@ TEST(BodyRecipe, RejectsCombinationsNoBuilderTakes) {
 TEST(BodyRecipe, PassesOnTheBuildersErrors) {
   BodyRecipe too_coarse(kMaterial);
   too_coarse.box_size = kBox;
-  too_coarse.spacing = 1.0;
+  too_coarse.lattice.spacing = 1.0;
   EXPECT_THROW(BuildModel(too_coarse), std::invalid_argument);
-  too_coarse.lattice = LatticeKind::kBaudet;
+  too_coarse.lattice_kind = LatticeKind::kBaudet;
   EXPECT_THROW(BuildModel(too_coarse), std::invalid_argument);
-  too_coarse.lattice = LatticeKind::kRandom;
+  too_coarse.lattice_kind = LatticeKind::kRandom;
   EXPECT_THROW(BuildModel(too_coarse), std::invalid_argument);
 
   BodyRecipe crowded(kMaterial);
-  crowded.lattice = LatticeKind::kRandom;
+  crowded.lattice_kind = LatticeKind::kRandom;
   crowded.box_size = kBox;
-  crowded.spacing = 0.1;
+  crowded.lattice.spacing = 0.1;
   crowded.random_min_distance = 1.4;
   crowded.random_max_distance = 2.0;
   EXPECT_THROW(BuildModel(crowded), std::runtime_error);
@@ -459,10 +459,10 @@ TEST(BodyRecipe, RefusesMoreNodesThanTheLimitBeforeBuilding) {
     for (const bool in_solid : {false, true}) {
       if (in_solid && kind == LatticeKind::kBaudet) continue;  // Baudet fills boxes only
       BodyRecipe recipe(kMaterial);
-      recipe.lattice = kind;
+      recipe.lattice_kind = kind;
       recipe.box_size = kBox;
       if (in_solid) recipe.solid = BoxSolid(kBox);
-      recipe.spacing = 1e-6;
+      recipe.lattice.spacing = 1e-6;
       try {
         BuildModel(recipe);
         ADD_FAILURE() << LatticeKindName(kind) << " built 10^17 nodes";

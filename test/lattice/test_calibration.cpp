@@ -29,10 +29,10 @@ CompressionExperimentResult CompressCubic(CubicConstruction construction, double
                                           double angle_deg = 0.0) {
   CubicLatticeOptions options;
   options.size = kBlock;
-  options.spacing = spacing;
+  options.lattice.spacing = spacing;
   options.construction = construction;
-  options.rotation_axis = Eigen::Vector3d(0.4, -0.3, 0.7);
-  options.rotation_angle = angle_deg * M_PI / 180.0;
+  options.lattice.rotation_axis = Eigen::Vector3d(0.4, -0.3, 0.7);
+  options.lattice.rotation_angle = angle_deg * M_PI / 180.0;
   return Compress(BuildCubicLattice(kMaterial, options), kBlock);
 }
 
@@ -59,8 +59,8 @@ TEST(Calibration, NodeCentredCubicMatchesEAndNuAtThreeResolutions) {
 TEST(Calibration, SurfaceCompensationIsWhatMakesCoarseNodeCentredBlocksAccurate) {
   CubicLatticeOptions options;
   options.size = kBlock;
-  options.spacing = 1.0 / 6.0;
-  options.compensate_surface = false;
+  options.lattice.spacing = 1.0 / 6.0;
+  options.surface.compensate_surface = false;
   const CompressionExperimentResult r = Compress(BuildCubicLattice(kMaterial, options), kBlock);
   // About 2/(3n) of E is missing without it (n = 6 cells across).
   EXPECT_LT(r.youngs_measured / kYoungs, 0.93);
@@ -92,9 +92,9 @@ TEST(Calibration, AntiAliasedRotatedBoxMatchesEAndNuAtSixRotations) {
   for (const auto& [axis, degrees] : rotations) {
     BodyRecipe recipe(kMaterial);
     recipe.box_size = kBlock;
-    recipe.spacing = 0.1;
-    recipe.rotation_axis = axis;
-    recipe.rotation_angle = degrees * M_PI / 180.0;
+    recipe.lattice.spacing = 0.1;
+    recipe.lattice.rotation_axis = axis;
+    recipe.lattice.rotation_angle = degrees * M_PI / 180.0;
     const CompressionExperimentResult r = Compress(BuildModel(recipe), kBlock);
     std::printf("  %4.0f deg about (%.1f, %.1f, %.1f): E %+.2f %%, nu %.4f\n", degrees, axis.x(),
                 axis.y(), axis.z(), 100.0 * (r.youngs_measured / kYoungs - 1.0),
@@ -108,7 +108,7 @@ TEST(Calibration, RandomLatticeMatchesEAndNuForTwoSeeds) {
   for (const std::uint64_t seed : {1u, 2u}) {
     RandomLatticeOptions options;
     options.size = Eigen::Vector3d(3.0, 1.0, 1.0);
-    options.spacing = 0.1;
+    options.lattice.spacing = 0.1;
     options.min_distance = 0.8;
     options.max_distance = 1.9;
     options.seed = seed;
@@ -125,12 +125,12 @@ TEST(Calibration, RandomLatticeMatchesEAndNuForTwoSeeds) {
 TEST(Calibration, NodeCentredCantileverFollowsEulerBernoulliAtTwoResolutions) {
   std::vector<double> tips;
   for (const double a : {1.0 / 16.0, 1.0 / 20.0}) {
-    CubicLatticeOptions lattice;
-    lattice.size = Eigen::Vector3d(4.0, 1.0, 1.0);
-    lattice.spacing = a;
-    const Model model = BuildCubicLattice(kMaterial, lattice);
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = Eigen::Vector3d(4.0, 1.0, 1.0);
+    lattice_options.lattice.spacing = a;
+    const Model model = BuildCubicLattice(kMaterial, lattice_options);
     CantileverExperimentOptions options;
-    options.body_size = lattice.size;
+    options.body_size = lattice_options.size;
     options.total_force = 0.1;  // tip deflection ~ 2.5e-4 m: small deflection
     const CantileverExperimentResult r = RunCantileverExperiment(model, options);
     ASSERT_TRUE(r.solver.converged) << r.solver.message;
@@ -148,12 +148,12 @@ TEST(Calibration, NodeCentredCantileverFollowsEulerBernoulliAtTwoResolutions) {
 // as CubicLatticeOptions'.
 CompressionExperimentResult CompressTenCellsAcross(double poisson, double strain,
                                                    double surface_dispersion = 1.0) {
-  CubicLatticeOptions lattice;
-  lattice.size = kBlock;
-  lattice.spacing = 0.1;
-  lattice.surface_dispersion = surface_dispersion;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = kBlock;
+  lattice_options.lattice.spacing = 0.1;
+  lattice_options.surface.surface_dispersion = surface_dispersion;
   const Model model =
-      BuildCubicLattice(Material::FromYoungsPoisson(kYoungs, poisson, 1100.0), lattice);
+      BuildCubicLattice(Material::FromYoungsPoisson(kYoungs, poisson, 1100.0), lattice_options);
   CompressionExperimentOptions options;
   options.body_size = kBlock;
   options.strain = strain;
@@ -181,7 +181,7 @@ TEST(Calibration, NodeCentredCubicTenCellsAcrossMatchesSmallStrainEAndNu) {
   }
 }
 
-// The softer outer layer (CubicLatticeOptions::surface_dispersion = 0.5, docs/physics.md §7)
+// The softer outer layer (NodeCentredSurfaceOptions::surface_dispersion = 0.5, docs/physics.md §7)
 // keeps the block's summed bulk, so the same block still reads E within 1 %; its nu reads a
 // little high where the bulk matters more (measured +0.0042 at nu = 0.45, +0.0012 at 0.49,
 // against -0.0007 and -0.0006 without it), hence 0.005 here instead of 0.003.

@@ -41,8 +41,8 @@ double StiffnessBetween(const Model& model, int a, int b) {
 TEST(CubicLatticeBuilder, NodeCentredCountsMassesAndSprings) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(1.0, 1.0, 1.0);
-  options.spacing = 0.25;
-  options.compensate_surface = false;
+  options.lattice.spacing = 0.25;
+  options.surface.compensate_surface = false;
   const Model model = BuildCubicLattice(kMaterial, options);
   const ModelStatistics stats = ComputeModelStatistics(model);
   EXPECT_EQ(stats.nodes, 64);
@@ -61,7 +61,7 @@ TEST(CubicLatticeBuilder, NodeCentredCountsMassesAndSprings) {
 TEST(CubicLatticeBuilder, SurfaceCompensationMovesMissingHalfSpringsInward) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(1.0, 1.0, 1.0);
-  options.spacing = 0.25;
+  options.lattice.spacing = 0.25;
   const Model model = BuildCubicLattice(kMaterial, options);
   const double kappa = 0.4 * 2e5 * 0.25;
   // A node on the x = 0 face (not on an edge) misses its -x neighbour: the +x spring carries it.
@@ -76,7 +76,7 @@ TEST(CubicLatticeBuilder, SurfaceCompensationMovesMissingHalfSpringsInward) {
   // With it, only half-springs whose node misses both i + d and i - d stay lost: on each of the 12
   // edges, 4 nodes lack 2 face diagonals in the plane across the edge, 12 x 4 x 2 x kappa a^2.
   const double target = 6.0 * 2e5 * 1.0;
-  options.compensate_surface = false;
+  options.surface.compensate_surface = false;
   const double plain = SumKL2(BuildCubicLattice(kMaterial, options));
   const double compensated = SumKL2(model);
   EXPECT_NEAR(plain / target, 576.0 / 960.0, 1e-12);
@@ -86,7 +86,7 @@ TEST(CubicLatticeBuilder, SurfaceCompensationMovesMissingHalfSpringsInward) {
 TEST(CubicLatticeBuilder, ElementCornerSumsElementContributions) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 1.0;
+  options.lattice.spacing = 1.0;
   options.construction = CubicConstruction::kElementCorner;
   const Model model = BuildCubicLattice(kMaterial, options);
   const double kappa = 0.4 * 2e5 * 1.0;
@@ -109,9 +109,9 @@ TEST(CubicLatticeBuilder, ElementCornerSumsElementContributions) {
 TEST(CubicLatticeBuilder, RotatedLatticeStaysInsideTheBoxAndFillsIt) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-  options.spacing = 0.1;
-  options.rotation_axis = Eigen::Vector3d(0.4, -0.3, 0.7);
-  options.rotation_angle = 30.0 * M_PI / 180.0;
+  options.lattice.spacing = 0.1;
+  options.lattice.rotation_axis = Eigen::Vector3d(0.4, -0.3, 0.7);
+  options.lattice.rotation_angle = 30.0 * M_PI / 180.0;
   const Model model = BuildCubicLattice(kMaterial, options);
   EXPECT_GE(model.rest_positions().minCoeff(), -1e-9);
   EXPECT_TRUE(
@@ -127,19 +127,19 @@ TEST(CubicLatticeBuilder, RejectsBadGeometry) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(1.0, 1.0, 1.0);
-  options.spacing = 2.0;  // larger than the body
+  options.lattice.spacing = 2.0;  // larger than the body
   EXPECT_THROW(BuildCubicLattice(kMaterial, options), std::invalid_argument);
-  options.spacing = nan;
+  options.lattice.spacing = nan;
   EXPECT_THROW(BuildCubicLattice(kMaterial, options), std::invalid_argument);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   options.size.x() = -1.0;
   EXPECT_THROW(BuildCubicLattice(kMaterial, options), std::invalid_argument);
   options.size.x() = 1.0;
-  options.rotation_axis.setZero();
-  options.rotation_angle = 0.3;
+  options.lattice.rotation_axis.setZero();
+  options.lattice.rotation_angle = 0.3;
   EXPECT_THROW(BuildCubicLattice(kMaterial, options), std::invalid_argument);
-  options.rotation_axis = Eigen::Vector3d::UnitZ();
-  options.spacing = 1e-4;  // 1e12 nodes
+  options.lattice.rotation_axis = Eigen::Vector3d::UnitZ();
+  options.lattice.spacing = 1e-4;  // 1e12 nodes
   EXPECT_THROW(BuildCubicLattice(kMaterial, options), std::invalid_argument);
 }
 

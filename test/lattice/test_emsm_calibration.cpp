@@ -24,7 +24,7 @@ TEST_P(CubicEmsm, MatchesAnyPoissonRatio) {
   for (const double nu : kTargets) {
     CubicLatticeOptions options;
     options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
-    options.spacing = 1.0 / 12.0;
+    options.lattice.spacing = 1.0 / 12.0;
     options.construction = GetParam();
     const Model model =
         BuildCubicLattice(Material::FromYoungsPoisson(kYoungs, nu, 1100.0), options);
@@ -44,7 +44,7 @@ TEST_P(RandomEmsm, MatchesAnyPoissonRatio) {
   for (const double nu : kTargets) {
     RandomLatticeOptions options;
     options.size = Eigen::Vector3d(3.0, 1.0, 1.0);
-    options.spacing = 0.1;
+    options.lattice.spacing = 0.1;
     options.max_distance = 1.9;
     options.seed = GetParam();
     const Model model =

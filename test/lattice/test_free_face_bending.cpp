@@ -20,11 +20,11 @@ using lattice::FreeFaceBending;
 
 Model Box(double poisson, const Eigen::Vector3i& cells, bool correct, double angle = 0.0) {
   CubicLatticeOptions options;
-  options.spacing = 0.01;
-  options.size = options.spacing * cells.cast<double>();
-  options.free_face_bending = correct;
-  options.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
-  options.rotation_angle = angle;
+  options.lattice.spacing = 0.01;
+  options.size = options.lattice.spacing * cells.cast<double>();
+  options.surface.free_face_bending = correct;
+  options.lattice.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
+  options.lattice.rotation_angle = angle;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
 }
 

@@ -55,9 +55,9 @@ TEST(AntiAliasing, RotatedLatticesKeepEAndNuOfTheThesisBox) {
     const double theta = angle(rng);
     for (const int variant : {0, 1}) {
       MeshCubicLatticeOptions options;
-      options.spacing = 1.0;
-      options.rotation_axis = axis;
-      options.rotation_angle = theta;
+      options.lattice.spacing = 1.0;
+      options.lattice.rotation_axis = axis;
+      options.lattice.rotation_angle = theta;
       options.antialias = variant == 0;
       const Model model = BuildCubicLatticeInSolid(material, box, options);
       CompressionExperimentOptions test;
@@ -93,7 +93,7 @@ TEST(AntiAliasing, KeepsTheMassOfASphere) {
   const double expected = material.density() * sphere.volume();
   for (const int cells_per_radius : {2, 3, 4, 5}) {
     MeshCubicLatticeOptions options;
-    options.spacing = 1.0 / cells_per_radius;
+    options.lattice.spacing = 1.0 / cells_per_radius;
     options.antialias = true;
     const double with_aa = BuildCubicLatticeInSolid(material, sphere, options).masses().sum();
     options.antialias = false;
@@ -111,7 +111,7 @@ TEST(MeshModels, CubicFromAMeshMatchesAnyPoissonRatio) {
   const SolidMesh box = BoxSolid(size);
   for (const double nu : {-0.5, 0.25, 0.45}) {
     MeshCubicLatticeOptions options;
-    options.spacing = 1.0 / 12.0;
+    options.lattice.spacing = 1.0 / 12.0;
     const Model model =
         BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, nu, 1100.0), box, options);
     const CompressionExperimentResult r = testing::Compress(model, size);
@@ -124,14 +124,14 @@ TEST(MeshModels, SpringLawReachesMeshBuiltModels) {
   const SolidMesh sphere(MakeIcosphereMesh(1.0, 3));
   const Material material = Material::FromYoungsPoisson(1e5, 0.45, 1000.0);
   MeshCubicLatticeOptions cubic;
-  cubic.spacing = 0.25;
-  cubic.spring_law = SpringLaw::kNonlinear;
+  cubic.lattice.spacing = 0.25;
+  cubic.lattice.spring_law = SpringLaw::kNonlinear;
   const Model cubic_model = BuildCubicLatticeInSolid(material, sphere, cubic);
   EXPECT_EQ(cubic_model.spring_law(), SpringLaw::kNonlinear);
   EXPECT_GT(cubic_model.dispersion_fraction(), 0.0);
   RandomLatticeOptions random;
-  random.spacing = 0.25;
-  random.spring_law = SpringLaw::kNonlinear;
+  random.lattice.spacing = 0.25;
+  random.lattice.spring_law = SpringLaw::kNonlinear;
   const Model random_model = BuildRandomLatticeInSolid(material, sphere, random);
   EXPECT_EQ(random_model.spring_law(), SpringLaw::kNonlinear);
   EXPECT_GT(random_model.dispersion_fraction(), 0.0);
@@ -141,7 +141,7 @@ TEST(MeshModels, SpringLawReachesMeshBuiltModels) {
 TEST(MeshModels, RandomSpringsDoNotCrossTheSurface) {
   const SolidMesh torus(MakeTorusMesh(1.0, 0.35, 64, 24));
   RandomLatticeOptions options;
-  options.spacing = 0.15;
+  options.lattice.spacing = 0.15;
   options.max_distance = 1.9;
   const Model model =
       BuildRandomLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.25, 1000.0), torus, options);
@@ -162,7 +162,7 @@ TEST(MeshModels, RandomFromAMeshMatchesAnyPoissonRatio) {
   const SolidMesh box = BoxSolid(size);
   for (const double nu : {0.0, 0.45}) {
     RandomLatticeOptions options;
-    options.spacing = 0.1;
+    options.lattice.spacing = 0.1;
     options.max_distance = 1.9;
     const Model model =
         BuildRandomLatticeInSolid(Material::FromYoungsPoisson(1e5, nu, 1100.0), box, options);

@@ -1,5 +1,5 @@
 // The softer outer layer of the eMSM dispersion (src/lattice/outer_layer_dispersion.h,
-// CubicLatticeOptions::surface_dispersion, docs/physics.md §7 "A softer outer layer"). Its
+// NodeCentredSurfaceOptions::surface_dispersion, docs/physics.md §7 "A softer outer layer"). Its
 // effect on the stable step is in test/mechanics/test_stable_time_step.cpp, on compression in
 // test/lattice/test_calibration.cpp, on a resolved contact in
 // test/experiments/test_hertz_contact.cpp, on a grip in test_grip_experiment.cpp and on bending
@@ -26,8 +26,8 @@ const Material kRubber = Material::FromYoungsPoisson(2e5, 0.49, 1100.0);
 Model Box(double keep, const Material& material = kRubber) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.06, 0.05, 0.04);  // 12 x 10 x 8 cells
-  options.spacing = 0.005;
-  options.surface_dispersion = keep;
+  options.lattice.spacing = 0.005;
+  options.surface.surface_dispersion = keep;
   return BuildCubicLattice(material, options);
 }
 
@@ -112,8 +112,8 @@ TEST(OuterLayerDispersion, AMeshBoxGetsTheBoxsWeights) {
   const Eigen::Vector3d size(0.06, 0.05, 0.04);
   TriangleMesh mesh = MakeBoxMesh(size);
   MeshCubicLatticeOptions options;
-  options.spacing = 0.005;
-  options.surface_dispersion = 0.5;
+  options.lattice.spacing = 0.005;
+  options.surface.surface_dispersion = 0.5;
   const Model from_mesh = BuildCubicLatticeInSolid(kRubber, SolidMesh(mesh), options);
   const Model box = Box(0.5);
   ASSERT_EQ(from_mesh.num_nodes(), box.num_nodes());
@@ -139,9 +139,9 @@ TEST(OuterLayerDispersion, RefusesAShareOutsideZeroToOne) {
   }
   CubicLatticeOptions corner;
   corner.size = Eigen::Vector3d(0.06, 0.05, 0.04);
-  corner.spacing = 0.005;
+  corner.lattice.spacing = 0.005;
   corner.construction = CubicConstruction::kElementCorner;
-  corner.surface_dispersion = 0.5;
+  corner.surface.surface_dispersion = 0.5;
   EXPECT_THROW(BuildCubicLattice(kRubber, corner), std::invalid_argument);
 }
 

@@ -14,7 +14,7 @@ const Material kMaterial = Material::FromYoungsPoisson(3e4, 0.25, 1050.0);
 RandomLatticeOptions SmallBlock() {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(1.0, 0.6, 0.5);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   return options;
 }
 
@@ -38,9 +38,9 @@ TEST(RandomLatticeBuilder, PlacesTheRequestedNodesAtLeastMinLApart) {
       closest = std::min(closest, (p.col(i) - p.col(j)).norm());
     }
   }
-  EXPECT_GE(closest, options.min_distance * options.spacing);
+  EXPECT_GE(closest, options.min_distance * options.lattice.spacing);
   for (double length : model.spring_rest_length()) {
-    EXPECT_LT(length, options.max_distance * options.spacing);
+    EXPECT_LT(length, options.max_distance * options.lattice.spacing);
   }
 }
 
@@ -51,7 +51,7 @@ TEST(RandomLatticeBuilder, ConnectsEveryPairCloserThanMaxL) {
   int pairs = 0;
   for (int i = 0; i < model.num_nodes(); ++i) {
     for (int j = i + 1; j < model.num_nodes(); ++j) {
-      if ((p.col(i) - p.col(j)).norm() < options.max_distance * options.spacing) ++pairs;
+      if ((p.col(i) - p.col(j)).norm() < options.max_distance * options.lattice.spacing) ++pairs;
     }
   }
   EXPECT_EQ(model.num_springs(), pairs);
@@ -94,7 +94,7 @@ TEST(RandomLatticeBuilder, ReportsImpossibleSetUps) {
   options.max_distance = 0.5;  // below min distance
   EXPECT_THROW(BuildRandomLattice(kMaterial, options), std::invalid_argument);
   options = SmallBlock();
-  options.spacing = 2.0;
+  options.lattice.spacing = 2.0;
   EXPECT_THROW(BuildRandomLattice(kMaterial, options), std::invalid_argument);
 }
 

@@ -33,7 +33,7 @@ using testing::Compress;
 RandomLatticeOptions BodyOptions(std::uint64_t seed) {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(3.0, 1.0, 1.0);
-  options.spacing = 1.0 / 15.0;
+  options.lattice.spacing = 1.0 / 15.0;
   options.min_distance = 0.8;
   options.max_distance = 1.8;
   options.seed = seed;

@@ -22,7 +22,7 @@ namespace {
 Model Block(double poisson) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.2, 0.2);
-  options.spacing = 0.05;
+  options.lattice.spacing = 0.05;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
 }
 

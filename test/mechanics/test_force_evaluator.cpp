@@ -18,8 +18,8 @@ namespace {
 Model RandomModel(double poisson, SpringLaw law) {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(0.5, 0.4, 0.3);
-  options.spacing = 0.1;
-  options.spring_law = law;
+  options.lattice.spacing = 0.1;
+  options.lattice.spring_law = law;
   return BuildRandomLattice(Material::FromYoungsPoisson(1e4, poisson, 1000.0), options);
 }
 
@@ -132,9 +132,9 @@ TEST_P(ForceEvaluatorLaws, StiffnessIsExactWithNonUnitDispersionWeights) {
        {CubicConstruction::kNodeCentred, CubicConstruction::kElementCorner}) {
     CubicLatticeOptions options;
     options.size = Eigen::Vector3d(0.4, 0.3, 0.3);
-    options.spacing = 0.1;
+    options.lattice.spacing = 0.1;
     options.construction = construction;
-    options.spring_law = GetParam();
+    options.lattice.spring_law = GetParam();
     const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e4, -0.5, 1000.0), options);
     ExpectExactLinearisation(model, Perturbed(model, 0.005, 9), EveryNthDof(model, 7));
   }
@@ -143,8 +143,8 @@ TEST_P(ForceEvaluatorLaws, StiffnessIsExactWithNonUnitDispersionWeights) {
 TEST_P(ForceEvaluatorLaws, BaudetCorrectionIsExactlyLinearisedAndConservative) {
   BaudetLatticeOptions options;
   options.size = Eigen::Vector3d(0.3, 0.2, 0.2);
-  options.spacing = 0.1;
-  options.spring_law = GetParam();
+  options.lattice.spacing = 0.1;
+  options.lattice.spring_law = GetParam();
   const Model model = BuildBaudetLattice(Material::FromYoungsPoisson(1e4, 0.4, 1000.0), options);
   ASSERT_EQ(model.correction_edges().size(), 12u);
   const Eigen::Matrix3Xd x = Perturbed(model, 0.004, 11);
@@ -226,7 +226,7 @@ namespace {
 TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.2, 0.15);
-  options.spacing = 0.01;  // 12,000 nodes, ~100k springs: above the parallel threshold
+  options.lattice.spacing = 0.01;  // 12,000 nodes, ~100k springs: above the parallel threshold
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), options);
   ASSERT_GE(model.num_springs(), 50'000);
   Eigen::Matrix3Xd x = model.rest_positions();

@@ -44,7 +44,7 @@ void ExpectSame(const Evaluation& runs, const Evaluation& reference) {
 Model Block(double poisson) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.1, 0.06, 0.05);
-  options.spacing = 0.01;
+  options.lattice.spacing = 0.01;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
 }
 

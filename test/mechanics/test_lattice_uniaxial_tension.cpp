@@ -33,8 +33,8 @@ LatticeReading StretchLattice(SpringLaw spring_law, double poisson, double strai
   const Eigen::Vector3d size(1.0, 0.5, 0.5);
   CubicLatticeOptions options;
   options.size = size;
-  options.spacing = kSpacing;
-  options.spring_law = spring_law;
+  options.lattice.spacing = kSpacing;
+  options.lattice.spring_law = spring_law;
   const Model model =
       BuildCubicLattice(Material::FromYoungsPoisson(kYoungs, poisson, 1000.0), options);
   const Eigen::Matrix3Xd& rest = model.rest_positions();

@@ -25,7 +25,7 @@ constexpr double kSpacing = 0.1;  // m
 Model Block(int cells_per_side, double poisson = 0.3) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d::Constant(cells_per_side * kSpacing);
-  options.spacing = kSpacing;
+  options.lattice.spacing = kSpacing;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e4, poisson, 1000.0), options);
 }
 
@@ -45,7 +45,7 @@ TEST(OrientationBarrier, EveryCellHasEightCornersAndRandomLatticesNone) {
   EXPECT_EQ(OrientationBarrier(Block(3), 1e4, 0.2).num_corners(), 8 * 8);
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(4, 3, 2) * kSpacing;
-  options.spacing = kSpacing;
+  options.lattice.spacing = kSpacing;
   const Model box = BuildCubicLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), options);
   EXPECT_EQ(OrientationBarrier(box, 1e4, 0.2).num_corners(), 6 * 8);
   options.construction = CubicConstruction::kElementCorner;  // 5 x 4 x 3 corner nodes
@@ -53,7 +53,7 @@ TEST(OrientationBarrier, EveryCellHasEightCornersAndRandomLatticesNone) {
   EXPECT_EQ(OrientationBarrier(corners, 1e4, 0.2).num_corners(), 4 * 3 * 2 * 8);
   RandomLatticeOptions random;
   random.size = Eigen::Vector3d(0.5, 0.4, 0.3);
-  random.spacing = kSpacing;
+  random.lattice.spacing = kSpacing;
   const Model irregular = BuildRandomLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), random);
   EXPECT_EQ(OrientationBarrier(irregular, 1e4, 0.2).num_corners(), 0);
 }
@@ -88,7 +88,7 @@ TEST(OrientationBarrier, VolumeRatiosFollowTheDeformation) {
 TEST(OrientationBarrier, ScreensLongRowsWhole) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(300, 2, 2) * kSpacing;
-  options.spacing = kSpacing;
+  options.lattice.spacing = kSpacing;
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), options);
   const OrientationBarrier barrier(model, 1e4, 0.2);
   ASSERT_EQ(barrier.num_corners(), 299 * 8);
@@ -105,9 +105,9 @@ TEST(OrientationBarrier, ScreensLongRowsWhole) {
 TEST(OrientationBarrier, ScreenAgreesWithTheVolumeRatios) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(1.0, 0.8, 0.6);
-  options.spacing = kSpacing;
-  options.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
-  options.rotation_angle = 0.6;
+  options.lattice.spacing = kSpacing;
+  options.lattice.rotation_axis = Eigen::Vector3d(0.2, 0.9, -0.4);
+  options.lattice.rotation_angle = 0.6;
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), options);
   const OrientationBarrier barrier(model, 1e4, 0.6);
   ASSERT_GT(barrier.num_corners(), 1000);
@@ -188,7 +188,7 @@ TEST(OrientationBarrier, StiffnessIsTheDerivativeOfTheForces) {
 TEST(OrientationBarrier, AddedByEveryForceLoop) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(12, 10, 10) * kSpacing;  // 1,200 nodes: threaded shares
-  options.spacing = kSpacing;
+  options.lattice.spacing = kSpacing;
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e4, 0.45, 1000.0), options);
   const auto barrier = std::make_shared<const OrientationBarrier>(model, 1e4, 0.2);
   const Eigen::Matrix3Xd x = Folded(model, 3);

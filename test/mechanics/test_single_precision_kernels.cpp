@@ -67,7 +67,7 @@ void ExpectClose(const Model& model, const Eigen::Matrix3Xd& single,
 Model Block(double poisson, double spacing = 0.01) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.1, 0.06, 0.05);
-  options.spacing = spacing;
+  options.lattice.spacing = spacing;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
 }
 
@@ -421,7 +421,7 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
 TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces) {
   CubicLatticeOptions slab;
   slab.size = Eigen::Vector3d(0.4, 0.4, 0.02);
-  slab.spacing = 0.01;
+  slab.lattice.spacing = 0.01;
   const Model block = Block(0.45, 0.0035);
   const Model plain = Block(0.25, 0.0035);  // no dispersion: the plain pass
   ASSERT_EQ(plain.dispersion_fraction(), 0.0);
@@ -602,7 +602,7 @@ TEST(SinglePrecisionEvaluator, TwoThreadsAgreeAndRepeat) {
 TEST(SinglePrecisionEvaluator, SharesShorterThanTheLongestOffsetAgree) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.4, 0.02);
-  options.spacing = 0.01;
+  options.lattice.spacing = 0.01;
   for (const double poisson : {0.25, 0.45}) {
     const Model model =
         BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);

@@ -13,7 +13,7 @@ namespace {
 Model CubicBlock() {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.1, 0.06, 0.05);
-  options.spacing = 0.01;
+  options.lattice.spacing = 0.01;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), options);
 }
 
@@ -55,7 +55,7 @@ TEST(SpringSchedule, CubicLatticeRowsBecomeLongRuns) {
 TEST(SpringSchedule, RandomLatticeIsNotVectorisable) {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(0.5, 0.4, 0.3);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const Model model = BuildRandomLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), options);
   const SpringSchedule schedule = ScheduleSprings(model);
   ExpectSchedulePermutesTheSprings(model, schedule);

@@ -109,10 +109,10 @@ double LargestEigenvalue(const Eigen::MatrixXd& symmetric) {
 }
 
 Model SmallBlock(double poisson) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.2, 0.15, 0.1);
-  lattice.spacing = 0.05;  // 5 x 4 x 3 nodes
-  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), lattice);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.2, 0.15, 0.1);
+  lattice_options.lattice.spacing = 0.05;  // 5 x 4 x 3 nodes
+  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), lattice_options);
 }
 
 class StableTimeStepDampers : public ::testing::TestWithParam<double> {};
@@ -168,12 +168,15 @@ INSTANTIATE_TEST_SUITE_P(PlainAndDispersed, StableTimeStepDampers,
 // short; with them fixed, the step of the free nodes, which the Verlet map with the anchors held
 // confirms: stable just inside it, unstable a little beyond.
 TEST(StableTimeStep, FixedNodesAreLeftOut) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.2, 0.15, 0.1);
-  lattice.spacing = 0.05;
-  lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
-  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), lattice);
-  const std::vector<NodeIndex> anchors = AnchorNodes(model, lattice.anchored_planes[0]);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.2, 0.15, 0.1);
+  lattice_options.lattice.spacing = 0.05;
+  lattice_options.surface.anchored_planes = {
+      AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitZ()}};
+  const Model model =
+      BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), lattice_options);
+  const std::vector<NodeIndex> anchors =
+      AnchorNodes(model, lattice_options.surface.anchored_planes[0]);
   ASSERT_EQ(anchors.size(), 4u * 3u + 4u * 4u + 3u * 5u);  // A springs; diagonals per pair
   StableTimeStepOptions options;
   options.safety = 1.0;
@@ -206,11 +209,11 @@ TEST(StableTimeStep, AtNuNearOneHalfTheSurfaceLayerSetsTheStep) {
   const Eigen::Vector3d size(0.06, 0.06, 0.03);
   const double spacing = 0.005;  // 12 x 12 x 6 nodes, 544 of them in the outer layer
   for (const double poisson : {0.25, 0.49}) {
-    CubicLatticeOptions lattice;
-    lattice.size = size;
-    lattice.spacing = spacing;
+    CubicLatticeOptions lattice_options;
+    lattice_options.size = size;
+    lattice_options.lattice.spacing = spacing;
     const Model model =
-        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice);
+        BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), lattice_options);
     StableTimeStepOptions options;
     options.safety = 1.0;
     const double whole = StableTimeStep(model, options);
@@ -236,17 +239,17 @@ TEST(StableTimeStep, AtNuNearOneHalfTheSurfaceLayerSetsTheStep) {
 // bulk (the rest moved one layer in) lengthens the step at nu = 0.49, short of what holding the
 // layer gives, since the layer beneath now carries more bulk.
 TEST(StableTimeStep, ASofterOuterLayerLengthensTheStepAtNuNearOneHalf) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(0.06, 0.06, 0.03);
-  lattice.spacing = 0.005;
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(0.06, 0.06, 0.03);
+  lattice_options.lattice.spacing = 0.005;
   const Material rubber = Material::FromYoungsPoisson(2e5, 0.49, 1100.0);
   StableTimeStepOptions options;
   options.safety = 1.0;
-  const double plain = StableTimeStep(BuildCubicLattice(rubber, lattice), options);
-  lattice.surface_dispersion = 0.5;
-  const double softer = StableTimeStep(BuildCubicLattice(rubber, lattice), options);
-  lattice.surface_dispersion = 0.25;
-  const double quarter = StableTimeStep(BuildCubicLattice(rubber, lattice), options);
+  const double plain = StableTimeStep(BuildCubicLattice(rubber, lattice_options), options);
+  lattice_options.surface.surface_dispersion = 0.5;
+  const double softer = StableTimeStep(BuildCubicLattice(rubber, lattice_options), options);
+  lattice_options.surface.surface_dispersion = 0.25;
+  const double quarter = StableTimeStep(BuildCubicLattice(rubber, lattice_options), options);
   std::printf(
       "  nu 0.49: step %.1f us, with the outer layer at half its bulk %.1f us (x%.2f), at a "
       "quarter %.1f us (x%.2f)\n",

@@ -36,10 +36,10 @@ TEST(StaticSolver, ChainUnderEndLoadStretchesLikeSeriesSprings) {
 }
 
 TEST(StaticSolver, PrescribedDisplacementReachesToleranceOnALattice) {
-  CubicLatticeOptions lattice;
-  lattice.size = Eigen::Vector3d(1.0, 0.5, 0.5);
-  lattice.spacing = 0.1;
-  const Model model = BuildCubicLattice(kMaterial, lattice);
+  CubicLatticeOptions lattice_options;
+  lattice_options.size = Eigen::Vector3d(1.0, 0.5, 0.5);
+  lattice_options.lattice.spacing = 0.1;
+  const Model model = BuildCubicLattice(kMaterial, lattice_options);
   DofConstraints constraints(model.num_nodes());
   Eigen::Matrix3Xd x = model.rest_positions();
   for (int i = 0; i < model.num_nodes(); ++i) {

@@ -16,7 +16,7 @@ const Material kMaterial = Material::FromYoungsPoisson(1e5, 0.25, 1000.0);
 Model Block(const Eigen::Vector3d& size) {
   CubicLatticeOptions options;
   options.size = size;
-  options.spacing = 0.125;
+  options.lattice.spacing = 0.125;
   return BuildCubicLattice(kMaterial, options);
 }
 

@@ -15,7 +15,7 @@ namespace {
 Model Block() {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.2, 0.1);
-  options.spacing = 0.05;
+  options.lattice.spacing = 0.05;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.3, 1000.0), options);
 }
 

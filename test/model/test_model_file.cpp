@@ -46,14 +46,14 @@ constexpr std::size_t kNodesOffset = 84;
 Model CubicModel() {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.4, 0.3, 0.3);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), options);
 }
 
 Model RandomModel() {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(0.5, 0.4, 0.4);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   options.seed = 7;
   return BuildRandomLattice(Material::FromYoungsPoisson(2e5, 0.4, 1200.0), options);
 }
@@ -61,8 +61,8 @@ Model RandomModel() {
 Model BaudetModel(double size = 0.3) {
   BaudetLatticeOptions options;
   options.size = Eigen::Vector3d(size, size, size);
-  options.spacing = 0.1;
-  options.spring_law = SpringLaw::kNonlinear;
+  options.lattice.spacing = 0.1;
+  options.lattice.spring_law = SpringLaw::kNonlinear;
   return BuildBaudetLattice(Material::FromYoungsPoisson(1e5, 0.4, 1100.0), options);
 }
 
@@ -226,7 +226,7 @@ TEST_F(ModelFileTest, RoundTripsACubicEmsmLattice) {
 // A lattice filling a sphere: its cut cells' nodes carry surface insets.
 TEST_F(ModelFileTest, RoundTripsTheSurfaceInsetsOfAMeshLattice) {
   MeshCubicLatticeOptions options;
-  options.spacing = 0.3;
+  options.lattice.spacing = 0.3;
   const Model model = BuildCubicLatticeInSolid(Material::FromYoungsPoisson(1e5, 0.3, 1000.0),
                                                SolidMesh(MakeIcosphereMesh(1.0, 3)), options);
   ASSERT_GT(model.surface_insets().maxCoeff(), 0.0);

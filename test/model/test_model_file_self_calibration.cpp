@@ -34,7 +34,7 @@ const Material kMaterial = Material::FromYoungsPoisson(2e5, 0.4, 1200.0);
 RandomLatticeOptions Options() {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(0.5, 0.4, 0.4);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   options.seed = 7;
   return options;
 }

@@ -48,8 +48,8 @@ Model HandBuiltEmsm() {
 Model BaudetBlock() {
   BaudetLatticeOptions options;
   options.size = Eigen::Vector3d(0.3, 0.2, 0.2);
-  options.spacing = 0.1;
-  options.spring_law = SpringLaw::kNonlinear;
+  options.lattice.spacing = 0.1;
+  options.lattice.spring_law = SpringLaw::kNonlinear;
   return BuildBaudetLattice(kMaterial, options);
 }
 

@@ -124,15 +124,15 @@ msm_sim::ros_interface::ObjectConfig LoadBoxObject(const std::string& key = "",
 
 // objects[]/free_face_bending (docs/physics.md §2.1): off unless asked for.
 TEST(ObjectConfig, FreeFaceBendingIsRead) {
-  EXPECT_FALSE(LoadBoxObject().free_face_bending);
-  EXPECT_TRUE(LoadBoxObject("free_face_bending", true).free_face_bending);
+  EXPECT_FALSE(LoadBoxObject().surface.free_face_bending);
+  EXPECT_TRUE(LoadBoxObject("free_face_bending", true).surface.free_face_bending);
 }
 
 // objects[]/surface_dispersion (docs/physics.md §7): 1 (off) unless asked for, and what the
 // object's model is built with.
 TEST(ObjectConfig, SurfaceDispersionIsRead) {
-  EXPECT_EQ(LoadBoxObject().surface_dispersion, 1.0);
-  EXPECT_EQ(LoadBoxObject("surface_dispersion", 0.5).surface_dispersion, 0.5);
+  EXPECT_EQ(LoadBoxObject().surface.surface_dispersion, 1.0);
+  EXPECT_EQ(LoadBoxObject("surface_dispersion", 0.5).surface.surface_dispersion, 0.5);
 }
 
 // objects[]/orientation_threshold (docs/physics.md §4): off unless asked for; outside (0, 1)
@@ -223,7 +223,7 @@ msm_sim::ros_interface::ObjectConfig CantileverObject(const Eigen::Vector3d& cla
   config.name = "beam";
   config.shape.kind = msm_sim::core::BodyShape::Kind::kBox;
   config.shape.size = Eigen::Vector3d(0.2, 0.05, 0.05);
-  config.spacing = 0.0125;
+  config.lattice.spacing = 0.0125;
   config.youngs = 120e3;
   config.poisson = 0.25;
   config.density = 1000.0;
@@ -246,15 +246,16 @@ TEST(ObjectConfig, HalfSpaceOnABoxFaceAnchorsTheFace) {
   using msm_sim::core::AnchoredPlane;
   for (const bool free_face_bending : {false, true}) {
     auto config = CantileverObject(Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d::UnitX());
-    config.free_face_bending = free_face_bending;
+    config.surface.free_face_bending = free_face_bending;
     const auto built = msm_sim::ros_interface::BuildObject(config, "~objects[0]");
-    msm_sim::core::CubicLatticeOptions lattice;
-    lattice.size = config.shape.size;
-    lattice.spacing = config.spacing;
-    lattice.free_face_bending = free_face_bending;
-    lattice.anchored_planes = {AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitX()}};
+    msm_sim::core::CubicLatticeOptions lattice_options;
+    lattice_options.size = config.shape.size;
+    lattice_options.lattice.spacing = config.lattice.spacing;
+    lattice_options.surface.free_face_bending = free_face_bending;
+    lattice_options.surface.anchored_planes = {
+        AnchoredPlane{Eigen::Vector3d::Zero(), -Eigen::Vector3d::UnitX()}};
     const msm_sim::core::Model lab = msm_sim::core::BuildCubicLattice(
-        msm_sim::core::Material::FromYoungsPoisson(120e3, 0.25, 1000.0), lattice);
+        msm_sim::core::Material::FromYoungsPoisson(120e3, 0.25, 1000.0), lattice_options);
     const msm_sim::core::Model& node = *built.model;
     ASSERT_EQ(node.num_nodes(), lab.num_nodes());
     ASSERT_EQ(node.num_springs(), lab.num_springs());
@@ -267,7 +268,8 @@ TEST(ObjectConfig, HalfSpaceOnABoxFaceAnchorsTheFace) {
     // The clamp holds exactly the anchors on the face x = -L/2 of the posed object.
     ASSERT_EQ(built.clamps.size(), 1u);
     const std::vector<msm_sim::core::NodeIndex>& held = built.clamps[0].second;
-    EXPECT_EQ(held.size(), msm_sim::core::AnchorNodes(lab, lattice.anchored_planes[0]).size());
+    EXPECT_EQ(held.size(),
+              msm_sim::core::AnchorNodes(lab, lattice_options.surface.anchored_planes[0]).size());
     EXPECT_EQ(held.size(), 4u * 4u + 2u * 4u * 5u);
     for (const msm_sim::core::NodeIndex i : held) {
       const Eigen::Vector3d local =
@@ -286,7 +288,7 @@ TEST(ObjectConfig, OtherHalfSpacesHoldTheirNodes) {
   EXPECT_EQ(built.model->num_nodes(), 16 * 4 * 4);
   EXPECT_EQ(built.clamps[0].second.size(), 16u);  // the layer at x = -L/2 + a/2
   auto uneven = CantileverObject(Eigen::Vector3d(-0.1, 0.0, 0.0), Eigen::Vector3d::UnitX());
-  uneven.spacing = 0.012;
+  uneven.lattice.spacing = 0.012;
   try {
     msm_sim::ros_interface::BuildObject(uneven, "~objects[0]");
     ADD_FAILURE() << "a face clamp on 0.2 / 0.012 cells was accepted";

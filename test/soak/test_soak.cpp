@@ -85,7 +85,7 @@ Scene DefaultScene(double orientation_threshold = 0.0) {
   box.size = Eigen::Vector3d(0.08, 0.06, 0.03);
   BodyRecipe recipe(kEcoflex);
   recipe.solid = std::make_shared<const SolidMesh>(MakeBodySolid(box));
-  recipe.spacing = 0.005;
+  recipe.lattice.spacing = 0.005;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.015);
   return OnTheTable(std::make_shared<const Model>(TransformedModel(BuildModel(recipe), pose)),
@@ -96,7 +96,7 @@ Scene DefaultScene(double orientation_threshold = 0.0) {
 // clamped.
 Scene BeanScene() {
   BodyRecipe recipe(kEcoflex);
-  recipe.lattice = LatticeKind::kRandom;
+  recipe.lattice_kind = LatticeKind::kRandom;
   recipe.solid = std::make_shared<const SolidMesh>(
       ImportSolidMesh(std::string(MSM_SIM_PACKAGE_DIR) + "/meshes/soft_bean.obj"));
   recipe.target_nodes = 1500;

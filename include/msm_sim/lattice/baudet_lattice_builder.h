@@ -2,24 +2,22 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/lattice/lattice_options.h"
 #include "msm_sim/material/material.h"
-#include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
 
-/// A box [0, size] meshed with cubic bricks of edge `spacing` in the manner of Baudet et al.
-/// (seeds 003/004): every brick has 8 corner masses, 12 edge springs and 4 inner-diagonal springs,
-/// plus orthogonal correction forces that make any Poisson's ratio possible.
+/// A box [0, size] meshed with cubic bricks of edge `lattice.spacing` in the manner of Baudet et
+/// al. (seeds 003/004): every brick has 8 corner masses, 12 edge springs and 4 inner-diagonal
+/// springs, plus orthogonal correction forces that make any Poisson's ratio possible.
 struct BaudetLatticeOptions {
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< m, each > 0
-  double spacing = 0.1;                            ///< brick edge a (m), <= the smallest size
-  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
-  double rotation_angle = 0.0;  ///< rad, about the box centre
-  SpringLaw spring_law = SpringLaw::kLinear;
+  /// Brick edge a (m, <= the smallest size), spring law, node limit and rotation about the box
+  /// centre (LatticeOptions).
+  LatticeOptions lattice;
   /// Off drops the correction forces: then only nu = 1/4 is reproduced (the paper's finding).
   bool orthogonal_correction = true;
-  int max_nodes = 2'000'000;
 };
 
 /// Stiffnesses of one brick of edge a, from the Lagrangian derivation in

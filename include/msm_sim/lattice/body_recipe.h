@@ -10,9 +10,9 @@
 
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/lattice_options.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/material/material.h"
-#include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -63,44 +63,35 @@ struct BodyRecipe {
 
   // --- Lattice -------------------------------------------------------------------------------
   /// Which lattice fills the region. Default cubic.
-  LatticeKind lattice = LatticeKind::kCubic;
-  /// All lattices: the lattice spacing a (cubic), brick edge (Baudet) or characteristic spacing
-  /// l (random), m, > 0 and at most the smallest box (or bounding-box) edge. Default 0.1 m.
-  /// Ignored when target_nodes > 0.
-  double spacing = 0.1;
+  LatticeKind lattice_kind = LatticeKind::kCubic;
+  /// All lattices: the spacing (the lattice spacing a of cubic lattices, the brick edge of
+  /// Baudet's, the characteristic spacing l of random ones; ignored when target_nodes > 0), the
+  /// springs' tension law and the node limit. Cubic and Baudet: the rotation, about the box centre
+  /// (box) or the bounding-box centre (solid). Handed to the builder as is (LatticeOptions, whose
+  /// defaults are the recipe's: 0.1 m, linear, kMaxBodyNodes, no rotation).
+  LatticeOptions lattice;
   /// All lattices: > 0 chooses the spacing for about this many nodes instead,
-  /// spacing = cbrt(V / target_nodes), V as below. Default 0 (use `spacing`); >= 0.
+  /// spacing = cbrt(V / target_nodes), V as below. Default 0 (use `lattice.spacing`); >= 0.
   int target_nodes = 0;
   /// The volume V that target_nodes divides (m^3), >= 0. Default 0: the region's own volume
   /// (the solid's, or box_size.prod()). A front end that fills a box but knows the body as a
   /// solid passes the solid's volume here.
   double target_volume = 0.0;
-  /// All lattices: the springs' tension law. Default linear.
-  SpringLaw spring_law = SpringLaw::kLinear;
-  /// Cubic and Baudet: the lattice is rotated by rotation_angle (rad) about rotation_axis (non-zero
-  /// when the angle is not 0), about the box centre (box) or the bounding-box centre (solid).
-  /// Default: no rotation. Ignored by random lattices.
-  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
-  double rotation_angle = 0.0;
   /// Cubic: node-centred (default) or element-corner; a solid takes node-centred only.
   CubicConstruction construction = CubicConstruction::kNodeCentred;
   /// Node-centred cubic in a solid, or in a box whose lattice is rotated (built through the box
   /// as a solid): docs/physics.md §5 anti-aliasing (cells weighted by the fraction inside the
   /// surface). Default on.
   bool antialias = true;
-  /// Node-centred cubic lattice aligned with the body (not rotated), in a box or a solid: surface
-  /// planes held by face anchors (AnchoredPlane, AnchorNodes), in the region's frame (a box's
-  /// [0, box_size]; centre_box then moves the anchors with the body). Default none; refused for
-  /// other lattices and rotated ones.
-  std::vector<AnchoredPlane> anchored_planes;
-  /// Node-centred cubic: the free faces' bending correction (CubicLatticeOptions::
-  /// free_face_bending); it applies when the lattice's cells fill a box (an unrotated box, or a
-  /// box-shaped solid aligned with the lattice). Default off.
-  bool free_face_bending = false;
-  /// Node-centred cubic: the share of its eMSM bulk the outer node layer keeps, in (0, 1]
-  /// (CubicLatticeOptions::surface_dispersion). Default 1 (off); other values are refused for
-  /// other lattices.
-  double surface_dispersion = 1.0;
+  /// Node-centred cubic: the surface options, handed to the builder as is
+  /// (NodeCentredSurfaceOptions). Anchored planes need a lattice aligned with the body (not
+  /// rotated), in a box or a solid, and lie in the region's frame (a box's [0, box_size];
+  /// centre_box then moves the anchors with the body). The free faces' bending correction applies
+  /// when the lattice's cells fill a box (an unrotated box, or a box-shaped solid aligned with the
+  /// lattice). Anchored planes, the bending correction and a surface_dispersion other than 1 are
+  /// refused for other lattices, which ignore compensate_surface. Defaults:
+  /// NodeCentredSurfaceOptions's.
+  NodeCentredSurfaceOptions surface;
   /// Random: the random sequential addition's seed; same seed, same model. Default 1.
   std::uint64_t seed = 1;
   /// Random: minL and maxL as multiples of l, 0 < min < max. Defaults 0.8 and 1.9 (what both
@@ -119,8 +110,9 @@ struct BodyRecipe {
   std::optional<RandomSelfCalibration> random_calibration;
 };
 
-/// The spacing BuildModel uses: `spacing`, or with target_nodes > 0 cbrt(V / target_nodes) for
-/// the volume V that target_nodes divides (target_volume, else the region's own). Not validated.
+/// The spacing BuildModel uses: `lattice.spacing`, or with target_nodes > 0 cbrt(V / target_nodes)
+/// for the volume V that target_nodes divides (target_volume, else the region's own). Not
+/// validated.
 double RecipeSpacing(const BodyRecipe& recipe);
 
 /// Builds the recipe's model: the lattice's builder with the recipe's options, in the region's

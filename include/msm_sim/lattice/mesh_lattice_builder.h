@@ -6,20 +6,19 @@
 
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/lattice/lattice_options.h"
 #include "msm_sim/material/material.h"
-#include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
 
 /// A node-centred cubic lattice filling the body bounded by a closed mesh.
 struct MeshCubicLatticeOptions {
-  double spacing = 0.1;  ///< lattice spacing a (m), > 0 and <= the smallest bounding-box edge
-  /// Lattice orientation in the mesh frame. The lattice is centred on the bounding box: a cell
-  /// centre on its middle along axes with an odd number of cells across, cell faces along axes
-  /// with an even number, so that an aligned box of whole cells is tiled exactly.
-  Eigen::Vector3d rotation_axis = Eigen::Vector3d::UnitZ();
-  double rotation_angle = 0.0;  ///< rad
+  /// Spacing a (m, <= the smallest bounding-box edge), spring law, node limit, and the lattice's
+  /// orientation in the mesh frame (LatticeOptions). The lattice is centred on the bounding box:
+  /// a cell centre on its middle along axes with an odd number of cells across, cell faces along
+  /// axes with an even number, so that an aligned box of whole cells is tiled exactly.
+  LatticeOptions lattice;
   /// docs/physics.md §5 anti-aliasing: each cell's mass and springs scale with the fraction chi of
   /// its volume inside the surface, computed by exact clipping (VolumeInsideBox). Off: a cell is a
   /// full node if its centre is inside, else nothing.
@@ -27,22 +26,11 @@ struct MeshCubicLatticeOptions {
   /// Cells with chi below this are dropped (thesis: 0.1): arbitrarily light nodes and weak
   /// springs would force a tiny time step.
   double min_fraction = 0.1;
-  /// Mirror the half-springs of missing neighbours (see BuildCubicLattice).
-  bool compensate_surface = true;
-  /// Planes of the solid's surface held by face anchors (CubicLatticeOptions::anchored_planes), in
-  /// the solid's frame: every missing neighbour whose segment leaves the body through one gets an
-  /// anchor where it crosses. The caller must freeze them (AnchorNodes). For a plane on a face of
-  /// a box-shaped solid aligned with the lattice, whole cells along its normal (the nodes half a
-  /// cell inside) give the box builder's anchors. Unrotated lattices only.
-  std::vector<AnchoredPlane> anchored_planes;
-  /// The free faces' bending correction (CubicLatticeOptions::free_face_bending); it applies only
-  /// when the kept cells fill a box of whole cells (a box mesh aligned with the lattice).
-  bool free_face_bending = false;
-  /// The outer node layer's share of the eMSM bulk, in (0, 1] (CubicLatticeOptions::
-  /// surface_dispersion); the outer layer is the cells missing one of their 18 neighbours.
-  double surface_dispersion = 1.0;
-  SpringLaw spring_law = SpringLaw::kLinear;
-  int max_nodes = 2'000'000;
+  /// Surface compensation, face anchors (in the solid's frame, unrotated lattices only), the free
+  /// faces' bending correction (when the kept cells fill a box of whole cells: a box mesh aligned
+  /// with the lattice) and the outer layer's dispersion (the outer layer is the cells missing one
+  /// of their 18 neighbours): NodeCentredSurfaceOptions.
+  NodeCentredSurfaceOptions surface;
 };
 
 /// Builds the calibrated node-centred A+B cubic MSM of the solid (docs/physics.md §2.1, §3 and §5):

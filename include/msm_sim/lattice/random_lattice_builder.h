@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 
 #include "msm_sim/geometry/solid_mesh.h"
+#include "msm_sim/lattice/lattice_options.h"
 #include "msm_sim/material/material.h"
-#include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
 #include "msm_sim/model/self_calibration.h"
 
@@ -26,19 +26,18 @@ using RandomSelfCalibration = SelfCalibration;
 /// A box [0, size] filled by random sequential addition (thesis 2.3.3).
 struct RandomLatticeOptions {
   Eigen::Vector3d size = Eigen::Vector3d::Ones();  ///< m, each > 0
-  /// Characteristic spacing l (m); the target node count is N = V / l^3.
-  double spacing = 0.1;
+  /// Characteristic spacing l (m; the target node count is N = V / l^3), spring law and node
+  /// limit (LatticeOptions). A random lattice has no orientation: the rotation is ignored.
+  LatticeOptions lattice;
   double min_distance = 0.8;  ///< minL as a multiple of l, in (0, max_distance)
   double max_distance = 1.7;  ///< maxL as a multiple of l: pairs closer than this get a spring
   std::uint64_t seed = 1;     ///< same seed, same model
   RandomStiffnessLaw stiffness_law = RandomStiffnessLaw::kInverseSquare;
-  SpringLaw spring_law = SpringLaw::kLinear;
   /// eMSM with nu > 1/4: weight each node's springs so that it disperses an isotropic pressure
   /// (see SetIsotropicDispersionWeights in the source). Off gives the eMSM paper's equal shares.
   bool isotropic_dispersion = true;
   /// Random sequential addition gives up after this many draws per requested node.
   int max_draws_per_node = 1000;
-  int max_nodes = 2'000'000;
   /// Self-calibration (docs/physics.md §2.2): measure a representative block with the same l,
   /// minL, maxL, laws and nu but calibration_seed in the virtual compression test, and correct q
   /// and k so that it reads the target nu and E. Off by default: it costs a few builds and
