@@ -23,7 +23,7 @@ constexpr double kStepFactor = 0.5 * kStep * kStep;  // c = h^2 / 2, no dampers
 Model Block(double spacing, double poisson) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.06, 0.06, 0.03);
-  options.spacing = spacing;
+  options.lattice.spacing = spacing;
   return BuildCubicLattice(Material::FromYoungsPoisson(2e5, poisson, 1100.0), options);
 }
 
@@ -103,7 +103,7 @@ int Iterations(const RestSystem& system, const Model& model,
 TEST(MultigridPreconditioner, GridsInterpolateLinearFieldsOfARandomLattice) {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(0.3, 0.2, 0.2);
-  options.spacing = 0.02;
+  options.lattice.spacing = 0.02;
   const Model model = BuildRandomLattice(Material::FromYoungsPoisson(1e4, 0.3, 1000.0), options);
   const MultigridPreconditioner multigrid(model, RestStiffness(model), {}, {2, 50});
   ASSERT_GE(multigrid.coarse_levels().size(), 2u);

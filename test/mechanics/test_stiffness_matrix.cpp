@@ -41,8 +41,8 @@ void ExpectMatrixMatchesProducts(const Model& model, const Eigen::Matrix3Xd& x,
 TEST(StiffnessMatrix, MatchesProductsOfANearlyIncompressibleCubicLattice) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.05, 0.04, 0.03);
-  options.spacing = 0.01;
-  options.surface_dispersion = 0.25;  // non-uniform dispersion weights
+  options.lattice.spacing = 0.01;
+  options.surface.surface_dispersion = 0.25;  // non-uniform dispersion weights
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.49, 1100.0), options);
   ASSERT_GT(model.dispersion_fraction(), 0.0);
   ExpectMatrixMatchesProducts(model, model.rest_positions(), GeometricStiffness::kExact);
@@ -54,7 +54,7 @@ TEST(StiffnessMatrix, MatchesProductsOfANearlyIncompressibleCubicLattice) {
 TEST(StiffnessMatrix, MatchesProductsOfARandomLattice) {
   RandomLatticeOptions options;
   options.size = Eigen::Vector3d(0.5, 0.4, 0.3);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const Model model = BuildRandomLattice(Material::FromYoungsPoisson(1e4, 0.45, 1000.0), options);
   ExpectMatrixMatchesProducts(model, Perturbed(model.rest_positions(), 0.01, 5),
                               GeometricStiffness::kExact);
@@ -63,7 +63,7 @@ TEST(StiffnessMatrix, MatchesProductsOfARandomLattice) {
 TEST(StiffnessMatrix, MatchesProductsWithTheBaudetCorrection) {
   BaudetLatticeOptions options;
   options.size = Eigen::Vector3d(0.3, 0.2, 0.2);
-  options.spacing = 0.1;
+  options.lattice.spacing = 0.1;
   const Model model = BuildBaudetLattice(Material::FromYoungsPoisson(1e4, 0.4, 1000.0), options);
   ASSERT_FALSE(model.correction_edges().empty());
   ExpectMatrixMatchesProducts(model, Perturbed(model.rest_positions(), 0.004, 11),
@@ -73,7 +73,7 @@ TEST(StiffnessMatrix, MatchesProductsWithTheBaudetCorrection) {
 TEST(StiffnessMatrix, IsSymmetricForLinearSprings) {
   CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.04, 0.04, 0.04);
-  options.spacing = 0.01;
+  options.lattice.spacing = 0.01;
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), options);
   ForceEvaluator evaluator(model);
   evaluator.Linearize(Perturbed(model.rest_positions(), 1e-3, 2), GeometricStiffness::kExact);
