@@ -189,6 +189,7 @@ int ImplicitIntegrator::SolvePreconditioned(Body* body, double c, const NodeArra
   const MaskedPcgReport report =
       SolveMaskedPcg(apply, b, projection, v_cycle, solver, dv, residual);
   if (report.converged) return report.iterations;
+  body->multigrid->ForgetFineEigenvalue();
   return report.iterations +
          SolveMaskedPcg(apply, b, projection, inverse_diagonal, solver, dv, residual).iterations;
 }

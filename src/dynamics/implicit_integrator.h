@@ -120,9 +120,10 @@ class ImplicitIntegrator {
   int SolveKick(Body* body, double h, double t0, double c, std::vector<ContactNormal>* held,
                 std::vector<ContactNormal>* speculative, Eigen::Matrix3Xd* residual);
   /// Solves (M + c K) dv = b on the range of `projection` from the start *dv, preconditioned as
-  /// WorldOptions::implicit_preconditioner asks; should the multigrid solve stop unconverged
-  /// (the V-cycle lost its positivity on a state far from rest), Jacobi takes over from where it
-  /// stopped. Returns the iterations of both.
+  /// WorldOptions::implicit_preconditioner asks. Should the multigrid solve stop unconverged (at
+  /// max_iterations, or on a V-cycle found not positive, as an underestimated largest eigenvalue
+  /// of the fine level makes it), Jacobi takes over from where it stopped and the estimate is
+  /// taken again at the next kick. Returns the iterations of both.
   int SolvePreconditioned(Body* body, double c, const NodeArrayOperator& apply,
                           const Eigen::Matrix3Xd& b, const DofProjection& projection,
                           const Eigen::Matrix3Xd& inverse_diagonal, const MaskedPcgOptions& solver,

@@ -10,7 +10,7 @@ namespace {
 
 using Triplets = std::vector<Eigen::Triplet<double>>;
 
-// Adds w * (block at (row node, column node)) to the triplets, 3 x 3.
+// Adds the 3 x 3 block at (row node, column node) to the triplets.
 void AddBlock(int row, int column, const Eigen::Matrix3d& block, Triplets* triplets) {
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 3; ++j) {
@@ -74,10 +74,11 @@ Eigen::SparseMatrix<double> ForceEvaluator::DispersionStiffnessMatrix() const {
     AddElongationGradient(a[s], b[s], u, inflow_b_[s] * tangent_stiffness_[s], b[s], &inflow);
   }
   const Eigen::Index dofs = 3 * static_cast<Eigen::Index>(model_->num_nodes());
-  Eigen::SparseMatrix<double> o(dofs, model_->num_nodes()), i(dofs, model_->num_nodes());
-  o.setFromTriplets(outflow.begin(), outflow.end());
-  i.setFromTriplets(inflow.begin(), inflow.end());
-  return o * i.transpose();
+  Eigen::SparseMatrix<double> outflow_gradients(dofs, model_->num_nodes());
+  Eigen::SparseMatrix<double> inflow_gradients(dofs, model_->num_nodes());
+  outflow_gradients.setFromTriplets(outflow.begin(), outflow.end());
+  inflow_gradients.setFromTriplets(inflow.begin(), inflow.end());
+  return outflow_gradients * inflow_gradients.transpose();
 }
 
 Eigen::SparseMatrix<double> ForceEvaluator::CorrectionStiffnessMatrix() const {
@@ -102,11 +103,11 @@ Eigen::SparseMatrix<double> ForceEvaluator::CorrectionStiffnessMatrix() const {
       }
     }
   }
-  Eigen::SparseMatrix<double> r(3 * static_cast<Eigen::Index>(model_->num_nodes()), axes);
+  Eigen::SparseMatrix<double> axis_rates(3 * static_cast<Eigen::Index>(model_->num_nodes()), axes);
   Eigen::SparseMatrix<double> coupling(axes, axes);
-  r.setFromTriplets(rates.begin(), rates.end());
+  axis_rates.setFromTriplets(rates.begin(), rates.end());
   coupling.setFromTriplets(couplings.begin(), couplings.end());
-  return r * coupling * r.transpose();
+  return axis_rates * coupling * axis_rates.transpose();
 }
 
 }  // namespace msm_sim::core

@@ -75,6 +75,8 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
     ++report.iterations;
     precondition(r, &z);
     const double rz_next = Dot(r, z);
+    // A preconditioner that is not positive on r (or not finite) would mislead CG: give up.
+    if (!(rz_next > 0.0)) break;
     p = z + (rz_next / rz) * p;
     rz = rz_next;
   }

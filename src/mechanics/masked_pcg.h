@@ -42,7 +42,8 @@ struct DofProjection {
 };
 
 /// z = B r for a preconditioner B, symmetric and positive on the range of the projection S of
-/// the solve, with z in that range (B = S D^-1 S for the diagonal one).
+/// the solve, with z in that range (B = S D^-1 S for the diagonal one). A B found not positive
+/// (r . B r <= 0 for a non-zero r) ends the solve unconverged.
 using NodeArrayPreconditioner = std::function<void(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z)>;
 
 /// SolveMaskedPcg below with a per-node projection and any preconditioner (preconditions as

@@ -125,6 +125,7 @@ SparseMatrix PerAxis(const SparseMatrix& scalar) {
 template <typename Vector, typename Product, typename Scale>
 void ChebyshevSmooth(const Product& product, const Scale& scale, double largest, int degree,
                      const Vector& b, bool x_is_zero, Vector* x) {
+  if (!(largest > 0.0)) return;  // nothing left to smooth (every DOF held)
   const double upper = largest;
   const double lower = upper / kSmoothedRange;
   const double centre = 0.5 * (upper + lower);
@@ -232,7 +233,12 @@ void MultigridPreconditioner::SetStepFactor(double c) {
     };
     level.largest_eigenvalue = LargestEigenvalue(product, scale, SeededStart(level.system.rows()));
   }
-  if (!levels_.empty()) coarsest_.compute(SparseMatrix(levels_.back().system));
+  if (!levels_.empty()) {
+    coarsest_.compute(SparseMatrix(levels_.back().system));
+    // Should the coarsest system not factorise, the V-cycle goes without the coarse levels
+    // (smoothing alone is still a symmetric positive preconditioner).
+    if (coarsest_.info() != Eigen::Success) levels_.clear();
+  }
 }
 
 void MultigridPreconditioner::CoarseCycle(int l, const Eigen::VectorXd& b,

@@ -37,7 +37,8 @@ struct MultigridLevel {
 /// nodes' rest positions (so any lattice, cubic or random, has one); a node's value is the
 /// trilinear interpolation of its coarse cell's corners. The fine level is the caller's own
 /// operator (the current K, matrix-free, with its held DOFs); the coarse levels are the rest
-/// state's, which makes the set-up a cost once per model and set of kinematic nodes.
+/// state's, which makes the set-up a cost once per model and set of kinematic nodes. Not for
+/// concurrent Apply calls (it caches the fine level's eigenvalue estimate).
 class MultigridPreconditioner {
  public:
   /// `held` (per node, empty for none): the nodes whose three DOFs the solves hold (kinematic
@@ -56,6 +57,9 @@ class MultigridPreconditioner {
 
   /// Prepares the coarse systems M + c K (c > 0); nothing when c is the last one's.
   void SetStepFactor(double c);
+  /// Makes the next Apply estimate the fine level's largest eigenvalue again (after a solve
+  /// that did not converge: the linearised system may have stiffened past the estimate).
+  void ForgetFineEigenvalue() { fine_largest_eigenvalue_ = 0.0; }
 
   /// *z = B r with B one V-cycle for S A S, where A (3 x N) is `apply` (the fine system, the
   /// whole of it: M + c K at the current state), inverse_diagonal 1 / diag(A) and S the

@@ -2,6 +2,7 @@
 // symmetric preconditioner, and conjugate gradient with it needs few iterations, not growing as
 // the lattice is refined, on a nearly incompressible block (docs/physics.md §7.1).
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <vector>
 
@@ -35,7 +36,7 @@ Eigen::SparseMatrix<double> RestStiffness(const Model& model) {
 
 // M + c K at rest as a node-array operator, its inverse diagonal, and the bottom layer held.
 struct RestSystem {
-  Eigen::SparseMatrix<double> matrix;
+  std::shared_ptr<const Eigen::SparseMatrix<double>> matrix;
   NodeArrayOperator apply;
   Eigen::Matrix3Xd inverse_diagonal;
   DofProjection projection;
@@ -45,16 +46,18 @@ RestSystem SystemOf(const Model& model,
                     const Eigen::SparseMatrix<double>& stiffness = Eigen::SparseMatrix<double>()) {
   RestSystem system;
   Eigen::VectorXd masses(3 * model.num_nodes());
-  for (int i = 0; i < model.num_nodes(); ++i)
+  for (int i = 0; i < model.num_nodes(); ++i) {
     masses.segment<3>(3 * i).setConstant(model.masses()[i]);
-  system.matrix = kStepFactor * (stiffness.rows() > 0 ? stiffness : RestStiffness(model));
-  system.matrix += Eigen::SparseMatrix<double>(masses.asDiagonal());
-  const Eigen::SparseMatrix<double>& a = system.matrix;
-  system.apply = [&a](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
-    const Eigen::VectorXd product = a * Eigen::Map<const Eigen::VectorXd>(v.data(), v.size());
+  }
+  Eigen::SparseMatrix<double> a =
+      kStepFactor * (stiffness.rows() > 0 ? stiffness : RestStiffness(model));
+  a += Eigen::SparseMatrix<double>(masses.asDiagonal());
+  system.matrix = std::make_shared<const Eigen::SparseMatrix<double>>(std::move(a));
+  system.apply = [matrix = system.matrix](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
+    const Eigen::VectorXd product = *matrix * Eigen::Map<const Eigen::VectorXd>(v.data(), v.size());
     *out = Eigen::Map<const Eigen::Matrix3Xd>(product.data(), 3, v.cols());
   };
-  const Eigen::VectorXd diagonal = a.diagonal();
+  const Eigen::VectorXd diagonal = system.matrix->diagonal();
   system.inverse_diagonal =
       Eigen::Map<const Eigen::Matrix3Xd>(diagonal.data(), 3, model.num_nodes()).cwiseInverse();
   system.projection.free = Eigen::Matrix3Xd::Ones(3, model.num_nodes());

@@ -34,7 +34,8 @@ enum class ImplicitPreconditioner {
   /// 1 / diag(M + c K): no set-up, but the iterations grow as the lattice is refined.
   kJacobi,
   /// A geometric multigrid V-cycle: iterations that do not grow with refinement, for a set-up
-  /// once per body (its rest stiffness assembled and coarsened) at its first implicit step.
+  /// (the rest stiffness assembled and coarsened) at a body's first implicit step and again when
+  /// its kinematic nodes change, and the coarse systems again when the substep changes.
   kMultigrid,
 };
 
