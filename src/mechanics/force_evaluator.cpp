@@ -81,9 +81,6 @@ ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, Spri
   total_tensions_.setZero(num_springs);
   accumulator_.setZero(n);
   dispersion_per_weight_.setZero(n);
-  directions_.setZero(3, num_springs);
-  lengths_.setZero(num_springs);
-  tangent_stiffness_.setZero(num_springs);
   // The run kernels know linear springs only, and the Baudet pass adds to model-order tensions.
   if (kernels == SpringKernels::kAuto && model.spring_law() == SpringLaw::kLinear &&
       model.correction_edges().empty()) {

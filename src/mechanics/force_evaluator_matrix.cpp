@@ -1,6 +1,7 @@
 // ForceEvaluator::StiffnessMatrix: the linearisation ApplyStiffness multiplies by, assembled as a
 // sparse matrix, for preconditioners that need its entries (docs/physics.md §7.1).
 
+#include <stdexcept>
 #include <vector>
 
 #include "msm_sim/mechanics/force_evaluator.h"
@@ -32,6 +33,10 @@ void AddElongationGradient(int a, int b, const Eigen::Vector3d& u, double w, int
 }  // namespace
 
 Eigen::SparseMatrix<double> ForceEvaluator::StiffnessMatrix() const {
+  if (directions_.cols() != model_->num_springs()) {
+    throw std::logic_error(
+        "StiffnessMatrix needs a per-spring linearisation (SpringKernels::kPerSpring)");
+  }
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const Eigen::Index dofs = 3 * static_cast<Eigen::Index>(model_->num_nodes());

@@ -71,44 +71,41 @@ void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
 }
 
 void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiffness geometric) {
-  // Exact (two-pass) total tensions at `positions`, without disturbing the one-pass history of
-  // the caller's simulation.
-  const DispersionPasses saved_passes = passes_;
-  const bool saved_has_previous = has_previous_dispersion_;
-  const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
-  passes_ = DispersionPasses::kTwoPass;
-  // In double, whatever the caller's precision: K and the solve need the exact tensions.
-  std::shared_ptr<const SinglePrecisionSprings> saved_single = std::move(single_);
-  single_.reset();
-  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
-  AccumulateForces(positions, &scratch);
-  single_ = std::move(saved_single);
-  passes_ = saved_passes;
-  has_previous_dispersion_ = saved_has_previous;
-  dispersion_per_weight_ = saved_dispersion;
-  model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
-                                             : LinearizeImpl<SpringLaw::kNonlinear>(positions);
-  geometric_tensions_ =
-      geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
+  if (scheduled_) {
+    LinearizeScheduled(positions, geometric == GeometricStiffness::kDropCompression);
+  } else {
+    LinearizePerSpring(positions, geometric);
+  }
   if (barrier_) {
     barrier_positions_ = positions;
     barrier_active_ = barrier_->ActiveCorners(positions);
     // Like compressed springs' geometric term, the barrier's curvature can make K indefinite.
     barrier_curvature_ = geometric == GeometricStiffness::kExact;
   }
-  if (scheduled_) {
-    // AccumulateForces above went through the run kernels (two-pass), so it left the total
-    // tensions in schedule order and the positions as x, y, z blocks in node_arrays_.
-    const int count = model_->num_springs();
-    scheduled_linearization_.resize(4 * static_cast<Eigen::Index>(count));
-    const Eigen::Index n = model_->num_nodes();
-    const double* x = node_arrays_.data();
-    LinearizeRuns(scheduled_->View(), 0, static_cast<int>(scheduled_->schedule.runs.size()), count,
-                  {x, x + n, x + 2 * n}, scheduled_totals_.data(),
-                  geometric == GeometricStiffness::kDropCompression,
-                  scheduled_linearization_.data());
-    if (single_) RoundLinearization();
-  }
+}
+
+void ForceEvaluator::LinearizePerSpring(const Eigen::Matrix3Xd& positions,
+                                        GeometricStiffness geometric) {
+  // Exact (two-pass) total tensions at `positions`, without disturbing the one-pass history of
+  // the caller's simulation. Without a schedule there are no single-precision springs: this
+  // evaluation is in double.
+  const DispersionPasses saved_passes = passes_;
+  const bool saved_has_previous = has_previous_dispersion_;
+  const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
+  passes_ = DispersionPasses::kTwoPass;
+  Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
+  AccumulateForces(positions, &scratch);
+  passes_ = saved_passes;
+  has_previous_dispersion_ = saved_has_previous;
+  dispersion_per_weight_ = saved_dispersion;
+  const int count = model_->num_springs();
+  directions_.resize(3, count);
+  lengths_.resize(count);
+  tangent_stiffness_.resize(count);
+  model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
+                                             : LinearizeImpl<SpringLaw::kNonlinear>(positions);
+  geometric_tensions_ =
+      geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
 }
 
 void ForceEvaluator::RoundLinearization() {
@@ -292,6 +289,7 @@ Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
 }
 
 Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
+  if (scheduled_) return ScheduledStiffnessDiagonal();
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const bool disperse = model_->dispersion_fraction() != 0.0;

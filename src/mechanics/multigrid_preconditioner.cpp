@@ -212,7 +212,7 @@ MultigridPreconditioner::MultigridPreconditioner(const Model& model,
 
 std::shared_ptr<MultigridPreconditioner> MultigridPreconditioner::ForRestState(
     const Model& model, const std::vector<char>& held) {
-  ForceEvaluator rest(model);
+  ForceEvaluator rest(model, DispersionPasses::kTwoPass, SpringKernels::kPerSpring);
   rest.Linearize(model.rest_positions(), GeometricStiffness::kDropCompression);
   return std::make_shared<MultigridPreconditioner>(model, rest.StiffnessMatrix(), held);
 }

@@ -1,5 +1,6 @@
 // The vectorised run kernels (ForceEvaluator with SpringKernels::kAuto on a lattice in rows)
 // against the per-spring loops, which the rest of the suite checks against theory.
+#include <string>
 #include <utility>
 
 #include <gtest/gtest.h>
@@ -117,6 +118,37 @@ TEST(ForceKernelsLinearize, StiffnessProductMatchesThePerSpringLoops) {
       EXPECT_LE((product[0] - product[1]).cwiseAbs().maxCoeff(),
                 1e-12 * product[1].cwiseAbs().maxCoeff())
           << "nu " << poisson << " geometric " << static_cast<int>(geometric);
+    }
+  }
+}
+
+TEST(ForceKernelsLinearize, DiagonalAndTensionsMatchThePerSpringLoops) {
+  for (const double poisson : {0.25, 0.45}) {
+    const Model model = Block(poisson);
+    const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 5);
+    for (const auto geometric :
+         {GeometricStiffness::kExact, GeometricStiffness::kDropCompression}) {
+      Eigen::Matrix3Xd diagonal[2];
+      Eigen::VectorXd tensions[2];
+      const SpringKernels kernels[2] = {SpringKernels::kAuto, SpringKernels::kPerSpring};
+      for (int k = 0; k < 2; ++k) {
+        // Forces evaluated before in float, as the implicit kick does: Linearize evaluates anew.
+        ForceEvaluator evaluator(model, DispersionPasses::kOnePass, kernels[k]);
+        evaluator.set_precision(SpringPrecision::kSingle);
+        Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+        evaluator.AccumulateForces(model.rest_positions(), &forces);
+        evaluator.Linearize(x, geometric);
+        diagonal[k] = evaluator.StiffnessDiagonal();
+        tensions[k] = evaluator.total_tensions();
+      }
+      const std::string what = "nu " + std::to_string(poisson) + " geometric " +
+                               std::to_string(static_cast<int>(geometric));
+      EXPECT_LE((diagonal[0] - diagonal[1]).cwiseAbs().maxCoeff(),
+                1e-12 * diagonal[1].cwiseAbs().maxCoeff())
+          << what;
+      EXPECT_LE((tensions[0] - tensions[1]).cwiseAbs().maxCoeff(),
+                1e-12 * tensions[1].cwiseAbs().maxCoeff())
+          << what;
     }
   }
 }

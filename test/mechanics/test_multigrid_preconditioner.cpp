@@ -29,7 +29,7 @@ Model Block(double spacing, double poisson) {
 }
 
 Eigen::SparseMatrix<double> RestStiffness(const Model& model) {
-  ForceEvaluator evaluator(model);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kPerSpring);
   evaluator.Linearize(model.rest_positions(), GeometricStiffness::kDropCompression);
   return evaluator.StiffnessMatrix();
 }
@@ -169,7 +169,7 @@ TEST(MultigridPreconditioner, ABodyTurnedAsAWholeKeepsItsIterations) {
   const Model model = Block(0.006, 0.49);
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  ForceEvaluator evaluator(model);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kPerSpring);
   evaluator.Linearize(turn * model.rest_positions(), GeometricStiffness::kDropCompression);
   const RestSystem turned = SystemOf(model, evaluator.StiffnessMatrix());
   const RestSystem at_rest_system = SystemOf(model);

@@ -1,6 +1,7 @@
 // ForceEvaluator::StiffnessMatrix against ApplyStiffness's products, on every kind of lattice
 // and stiffness term (springs, dispersion, Baudet correction, geometric stiffness).
 #include <random>
+#include <stdexcept>
 
 #include <gtest/gtest.h>
 
@@ -13,12 +14,16 @@
 namespace msm_sim::core {
 namespace {
 
-// Checks K v == StiffnessMatrix() vec(v) for a few seeded random v, to rounding.
+// Checks K v == StiffnessMatrix() vec(v) for a few seeded random v, to rounding: the matrix of
+// the per-spring linearisation against the products of the default evaluator (the run kernels
+// where the model suits them).
 void ExpectMatrixMatchesProducts(const Model& model, const Eigen::Matrix3Xd& x,
                                  GeometricStiffness geometric) {
+  ForceEvaluator per_spring(model, DispersionPasses::kTwoPass, SpringKernels::kPerSpring);
+  per_spring.Linearize(x, geometric);
+  const Eigen::SparseMatrix<double> k = per_spring.StiffnessMatrix();
   ForceEvaluator evaluator(model);
   evaluator.Linearize(x, geometric);
-  const Eigen::SparseMatrix<double> k = evaluator.StiffnessMatrix();
   ASSERT_EQ(k.rows(), 3 * model.num_nodes());
   std::mt19937 rng(3);
   std::normal_distribution<double> normal;
@@ -75,11 +80,21 @@ TEST(StiffnessMatrix, IsSymmetricForLinearSprings) {
   options.size = Eigen::Vector3d(0.04, 0.04, 0.04);
   options.lattice.spacing = 0.01;
   const Model model = BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), options);
-  ForceEvaluator evaluator(model);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kPerSpring);
   evaluator.Linearize(Perturbed(model.rest_positions(), 1e-3, 2), GeometricStiffness::kExact);
   const Eigen::SparseMatrix<double> k = evaluator.StiffnessMatrix();
   const Eigen::SparseMatrix<double> asymmetry = k - Eigen::SparseMatrix<double>(k.transpose());
   EXPECT_LE(asymmetry.norm(), 1e-12 * k.norm());
+}
+
+TEST(StiffnessMatrix, RefusesALinearisationThroughTheRunKernels) {
+  CubicLatticeOptions options;
+  options.lattice.spacing = 0.01;
+  options.size = Eigen::Vector3d(0.04, 0.04, 0.04);
+  const Model model = BuildCubicLattice(Material::FromYoungsPoisson(2e5, 0.45, 1100.0), options);
+  ForceEvaluator evaluator(model);
+  evaluator.Linearize(model.rest_positions(), GeometricStiffness::kExact);
+  EXPECT_THROW(evaluator.StiffnessMatrix(), std::logic_error);
 }
 
 }  // namespace

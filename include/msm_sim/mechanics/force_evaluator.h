@@ -208,6 +208,8 @@ class ForceEvaluator {
   /// K at the last Linearize assembled (3N x 3N, row and column 3 i + d for node i's axis d),
   /// without the orientation barrier: ApplyStiffness's product is StiffnessMatrix() times the
   /// stacked columns of v. For preconditioners that need K's entries; set-up cost, not per step.
+  /// Needs the per-spring linearisation: throws std::logic_error for an evaluator whose
+  /// Linearize went through the run kernels (build it with SpringKernels::kPerSpring).
   Eigen::SparseMatrix<double> StiffnessMatrix() const;
   /// K is symmetric without dispersion, and with it for linear springs (the dispersion then has
   /// a potential); with carrier springs the inflow follows the tangent k' and the outflow k.
@@ -276,6 +278,14 @@ class ForceEvaluator {
   double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
   template <SpringLaw Law>
   void LinearizeImpl(const Eigen::Matrix3Xd& positions);
+  /// Linearize's per-spring path (models without the run kernels): a double two-pass
+  /// evaluation, then each spring's u, L and tangent stiffness in model order.
+  void LinearizePerSpring(const Eigen::Matrix3Xd& positions, GeometricStiffness geometric);
+  /// Linearize through the run kernels (force_evaluator_runs_stiffness.cpp): the two-pass total
+  /// tensions in double and the linearisation in schedule order, without the forces.
+  void LinearizeScheduled(const Eigen::Matrix3Xd& positions, bool drop_compression);
+  /// SpringStiffnessDiagonal from the scheduled linearisation, over the runs.
+  Eigen::Matrix3Xd ScheduledStiffnessDiagonal() const;
 
   const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
   DispersionPasses passes_;
@@ -299,13 +309,15 @@ class ForceEvaluator {
   Eigen::VectorXd scheduled_linearization_;   // u and T / L in schedule order (Linearize)
   mutable Eigen::VectorXd stiffness_arrays_;  // dv and K dv as x, y, z blocks of N each
   mutable Eigen::VectorXd accumulator_change_;
-  Eigen::VectorXd geometric_tensions_;     // T of the geometric stiffness (Linearize)
+  Eigen::VectorXd geometric_tensions_;     // T of the geometric stiffness (per-spring path)
   Eigen::VectorXd accumulator_;            // J per node
   Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
   bool has_previous_dispersion_ = false;
-  Eigen::Matrix3Xd directions_;  // unit vectors a -> b (linearisation)
+  // The per-spring linearisation (model order), filled only where there is no schedule.
+  Eigen::Matrix3Xd directions_;  // unit vectors a -> b
   Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;  // dt / dL per spring (linearisation)
+  Eigen::VectorXd tangent_stiffness_;        // dt / dL per spring
+  mutable Eigen::VectorXd diagonal_arrays_;  // ScheduledStiffnessDiagonal's sums, 9 blocks of N
   SpringPrecision precision_ = SpringPrecision::kDouble;
   bool totals_recorded_ = true;         // false after a single-precision evaluation
   bool overwrite_forces_ = false;       // during SetForces
