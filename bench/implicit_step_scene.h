@@ -44,7 +44,7 @@ struct BlockCase {
 inline std::shared_ptr<const Model> RealtimeBlock(const BlockCase& block_case) {
   CubicLatticeOptions lattice;
   lattice.size = Eigen::Vector3d(0.1, 0.1, 0.05);
-  lattice.spacing = block_case.spacing;
+  lattice.lattice.spacing = block_case.spacing;
   return std::make_shared<const Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(2e5, block_case.poisson, 1100.0), lattice));
 }
