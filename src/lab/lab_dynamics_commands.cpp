@@ -42,7 +42,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.damping_beta = contact.damping;
   options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
-  core::ParseImplicitPreconditioner(contact.preconditioner, &options.implicit_preconditioner);
+  options.implicit_preconditioner = PreconditionerNamed(contact.preconditioner);
   options.threads = contact.threads;
   options.spring_precision = PrecisionNamed(contact.precision);
   options.time_step_safety = contact.time_step_safety;
@@ -128,7 +128,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.friction = contact.friction;
   options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
-  core::ParseImplicitPreconditioner(contact.preconditioner, &options.implicit_preconditioner);
+  options.implicit_preconditioner = PreconditionerNamed(contact.preconditioner);
   options.spring_precision = PrecisionNamed(contact.precision);
   const auto model = LabBlock(arguments.model);
   const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);

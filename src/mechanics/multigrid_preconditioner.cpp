@@ -159,6 +159,19 @@ double LargestEigenvalue(const Product& product, const Scale& scale, Vector star
   return kEigenvalueMargin * estimate;
 }
 
+// A coarse level's system product and its diagonal scaling, for the smoother and the eigenvalue
+// estimate.
+struct LevelProduct {
+  const MultigridLevel& level;
+  Eigen::VectorXd operator()(const Eigen::VectorXd& v) const { return level.system * v; }
+};
+struct LevelScale {
+  const MultigridLevel& level;
+  Eigen::VectorXd operator()(const Eigen::VectorXd& r) const {
+    return level.inverse_diagonal.cwiseProduct(r);
+  }
+};
+
 Eigen::VectorXd SeededStart(Eigen::Index size) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -182,9 +195,7 @@ MultigridPreconditioner::MultigridPreconditioner(const Model& model,
   Eigen::VectorXd masses(3 * model.num_nodes());
   for (int i = 0; i < model.num_nodes(); ++i)
     masses.segment<3>(3 * i).setConstant(model.masses()[i]);
-  SparseMatrix mass(masses.size(), masses.size());
-  mass.setIdentity();
-  mass = masses.asDiagonal() * mass;
+  SparseMatrix mass(masses.asDiagonal());
   SparseMatrix stiffness = rest_stiffness;
   Eigen::Matrix3Xd points = rest;
   double spacing = 2.0 * model.characteristic_length();
@@ -225,13 +236,8 @@ void MultigridPreconditioner::SetStepFactor(double c) {
     MultigridLevel& level = levels_[l];
     level.system = level.mass + c * level.stiffness;
     level.inverse_diagonal = level.system.diagonal().cwiseInverse();
-    const auto product = [&level](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-      return level.system * v;
-    };
-    const auto scale = [&level](const Eigen::VectorXd& r) -> Eigen::VectorXd {
-      return level.inverse_diagonal.cwiseProduct(r);
-    };
-    level.largest_eigenvalue = LargestEigenvalue(product, scale, SeededStart(level.system.rows()));
+    level.largest_eigenvalue =
+        LargestEigenvalue(LevelProduct{level}, LevelScale{level}, SeededStart(level.system.rows()));
   }
   if (!levels_.empty()) {
     coarsest_.compute(SparseMatrix(levels_.back().system));
@@ -248,12 +254,8 @@ void MultigridPreconditioner::CoarseCycle(int l, const Eigen::VectorXd& b,
     *x = coarsest_.solve(b);
     return;
   }
-  const auto product = [&level](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-    return level.system * v;
-  };
-  const auto scale = [&level](const Eigen::VectorXd& r) -> Eigen::VectorXd {
-    return level.inverse_diagonal.cwiseProduct(r);
-  };
+  const LevelProduct product{level};
+  const LevelScale scale{level};
   const MultigridLevel& below = levels_[l + 1];
   x->setZero(b.size());
   ChebyshevSmooth(product, scale, level.largest_eigenvalue, options_.smoothing_degree, b, true, x);
