@@ -247,20 +247,28 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
                 totals);
     });
   } else {
-    accumulator_.setZero();
-    plan_->ForSpringShares(num_runs, accumulator_.data(), n,
-                           [&](int begin, int end, double* target) {
-                             InflowRuns(springs, begin, end, x_arrays, run_damping,
-                                        tensions_.data(), inverse_lengths_.data(), target);
-                           });
+    InflowRunsToAccumulator(x);
     dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
     plan_->ForSpringShares(num_runs, f, 3 * n, [&](int begin, int end, double* target) {
-      OutflowRuns(springs, begin, end, x_arrays, dispersion_per_weight_.data(), tensions_.data(),
-                  inverse_lengths_.data(), {target, target + n, target + 2 * n}, totals);
+      OutflowRuns(springs, begin, end, x_arrays, run_damping, dispersion_per_weight_.data(),
+                  {target, target + n, target + 2 * n}, totals);
     });
   }
   AddNodeArrays(f, n, forces->data());
   totals_scheduled_ = true;
+}
+
+void ForceEvaluator::InflowRunsToAccumulator(const double* x_arrays) {
+  const Eigen::Index n = model_->num_nodes();
+  const NodeArrays x{x_arrays, x_arrays + n, x_arrays + 2 * n};
+  const ScheduledSprings springs = scheduled_->View();
+  const int num_runs = static_cast<int>(scheduled_->schedule.runs.size());
+  end_sums_.setZero(2 * n);
+  plan_->ForSpringShares(num_runs, end_sums_.data(), 2 * n,
+                         [&](int begin, int end, double* target) {
+                           InflowRuns(springs, begin, end, x, target, target + n);
+                         });
+  accumulator_ = model_->dispersion_fraction() * (end_sums_.head(n) + end_sums_.tail(n));
 }
 
 void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,

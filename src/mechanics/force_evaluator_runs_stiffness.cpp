@@ -32,17 +32,11 @@ void ForceEvaluator::LinearizeScheduled(const Eigen::Matrix3Xd& positions, bool 
       LinearizePlainRuns(springs, begin, end, count, x_arrays, drop_compression, totals, storage);
     });
   } else {
-    accumulator_.setZero();
-    plan_->ForSpringShares(num_runs, accumulator_.data(), n,
-                           [&](int begin, int end, double* target) {
-                             InflowRuns(springs, begin, end, x_arrays, RunDamping{nullptr, 0.0},
-                                        tensions_.data(), inverse_lengths_.data(), target);
-                           });
+    InflowRunsToAccumulator(x);
     accumulator_.array() *= inverse_star_weight_.array();  // now g = J / W
     plan_->ForSpringShares(num_runs, nullptr, 0, [&](int begin, int end, double*) {
       LinearizeDispersedRuns(springs, begin, end, count, x_arrays, accumulator_.data(),
-                             tensions_.data(), inverse_lengths_.data(), drop_compression, totals,
-                             storage);
+                             drop_compression, totals, storage);
     });
   }
   // total_tensions() now answers with these tensions, as after a double evaluation.

@@ -47,18 +47,18 @@ void PlainRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                const NodeArrays& positions, const RunDamping& damping,
                const MutableNodeArrays& forces, double* total_tensions);
 
-/// eMSM first pass: stores each spring's direct tension plus its damper's, and 1 / L, and
-/// accumulates J += inflow * t at both ends with the direct (elastic) tension only.
+/// eMSM first pass: adds each spring's end outflow v k L0 times its stretch L - L0 to the a
+/// ends' sums `a_ends` and the b ends' `b_ends` (node arrays); q (a_ends + b_ends) is then J per
+/// node (docs/physics.md §3). Dampers do not disperse, so it takes no velocities.
 void InflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
-                const NodeArrays& positions, const RunDamping& damping, double* tensions,
-                double* inverse_lengths, double* accumulator);
+                const NodeArrays& positions, double* a_ends, double* b_ends);
 
-/// eMSM second pass: total tension = stored tension + outflow_a g_a + outflow_b g_b, with
-/// g = J / W per node, applied to both ends and stored.
+/// eMSM second pass: total tension = k (L - L0) + outflow_a g_a + outflow_b g_b plus the
+/// damper's, with g = J / W per node, applied to both ends and stored.
 void OutflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
-                 const NodeArrays& positions, const double* dispersion_per_weight,
-                 const double* tensions, const double* inverse_lengths,
-                 const MutableNodeArrays& forces, double* total_tensions);
+                 const NodeArrays& positions, const RunDamping& damping,
+                 const double* dispersion_per_weight, const MutableNodeArrays& forces,
+                 double* total_tensions);
 
 /// A linearisation in schedule order (ForceEvaluator::Linearize): each spring's unit vector u
 /// (a -> b) and geometric coefficient T / L. A linear spring's tangent stiffness is its k.

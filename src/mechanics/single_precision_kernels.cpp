@@ -1,8 +1,7 @@
 // The single-precision passes along the runs, the entry points that choose runs or blocks
-// (single_block_loops.h), and the layout conversions. The plain and second passes' loop along a
-// run is SpringForcesAlongRun (spring_run_loops.h), the one the double plain pass instantiates
-// too; the eMSM first pass's loop is this file's own, as it sums other terms than the double
-// one's (single_precision_kernels.h). Compiled with -fno-math-errno (CMakeLists.txt), as
+// (single_block_loops.h), and the layout conversions. The loops along a run are the ones the
+// double run kernels instantiate too (SpringForcesAlongRun, StretchInflowAlongRun;
+// spring_run_loops.h). Compiled with -fno-math-errno (CMakeLists.txt), as
 // force_kernels.cpp: std::sqrt then becomes one SIMD instruction, which lets the loops
 // vectorise. The schedule is built in single_precision_schedule.cpp.
 
@@ -46,24 +45,6 @@ inline __attribute__((always_inline)) void ForRunInShare(const SingleRun& run,
 // Where a part's b ends go: the shared arrays from node b, or the share's overflow from b - end.
 inline float* BEnd(float* shared, float* overflow, int b, int end, bool beyond) {
   return beyond ? overflow + (b - end) : shared + b;
-}
-
-// One run of the eMSM first pass, its pointers as restrict parameters (GCC then trusts them;
-// as restrict locals it kept a scalar fallback and took it). Only the elastic tension feeds the
-// accumulators (as the outflow times the stretch L - L0), so this pass needs no velocities and
-// no 1 / L, and it stores nothing per slot. Node arrays start at the run's a0, per-slot arrays at
-// its first slot, jb at node a0 + d.
-inline __attribute__((always_inline)) void InflowRun(
-    int n, int d, const float* __restrict px, const float* __restrict py,
-    const float* __restrict pz, const float* __restrict rest, const float* __restrict outflow_a,
-    const float* __restrict outflow_b, float* __restrict ja, float* __restrict jb) {
-#pragma omp simd
-  for (int i = 0; i < n; ++i) {
-    const float rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const float stretch = internal::SpringLength(rx, ry, rz) - rest[i];
-    ja[i] += outflow_a[i] * stretch;
-    jb[i] += outflow_b[i] * stretch;
-  }
 }
 
 // The forces of the slots in `share` along the runs; Dispersed: by `g` per node (the eMSM second
@@ -227,9 +208,10 @@ void SingleInflowRuns(const SinglePrecisionSprings& springs, const SingleShare& 
   for (const SingleRun& run : springs.runs) {
     ForRunInShare(run, share, [&](int a, int count, bool beyond) {
       const int b = a + run.offset, f = run.first + (a - run.a0);
-      InflowRun(count, run.offset, positions.x + a, positions.y + a, positions.z + a,
-                springs.rest.data() + f, springs.outflow_a.data() + f, springs.outflow_b.data() + f,
-                j_a + a, BEnd(j_b, j_b_overflow, b, share.limit, beyond));
+      internal::StretchInflowAlongRun<float>(
+          count, run.offset, positions.x + a, positions.y + a, positions.z + a,
+          springs.rest.data() + f, springs.outflow_a.data() + f, springs.outflow_b.data() + f,
+          j_a + a, BEnd(j_b, j_b_overflow, b, share.limit, beyond));
     });
   }
 }

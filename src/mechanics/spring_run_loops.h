@@ -1,12 +1,12 @@
 #pragma once
 
-// The spring loops along a run that both precisions share, each one template on the scalar:
-// SpringForcesAlongRun, the force pass of the double run kernels' plain MSM (force_kernels.cpp)
-// and of the single run loops' plain MSM and eMSM second pass (single_precision_kernels.cpp); and
-// the stiffness products StiffnessRunsOf and DispersedStiffnessRunsOf (force_kernels.cpp, for
-// double and float). For the kernels' files only: inlined into their SIMD clones
-// (simd_clones.h). What stays per precision in SpringForcesAlongRun is two small choices, 1 / L
-// (InverseLength) and where a spring's force goes (RunEnds).
+// The spring loops along a run that both precisions share, each one template on the scalar,
+// for the double run kernels (force_kernels.cpp) and the single run loops
+// (single_precision_kernels.cpp): SpringForcesAlongRun, the plain MSM's force pass and the eMSM's
+// second pass; StretchInflowAlongRun, the eMSM's first pass; and the stiffness products
+// StiffnessRunsOf and DispersedStiffnessRunsOf. For the kernels' files only: inlined into their
+// SIMD clones (simd_clones.h). What stays per precision in SpringForcesAlongRun is two small
+// choices, 1 / L (InverseLength) and where a spring's force goes (RunEnds).
 
 #include "mechanics/spring_arithmetic.h"
 #include "mechanics/spring_schedule.h"
@@ -84,6 +84,25 @@ inline __attribute__((always_inline)) void SpringForcesAlongRun(
       fby[i] -= sy;
       fbz[i] -= sz;
     }
+  }
+}
+
+/// The eMSM first pass along a run: each spring's stretch L - L0 times its end outflows (o_a,
+/// o_b), added to the a end's accumulator (ja, from the run's a0) and the b end's (jb, from node
+/// a0 + d), which then hold J / q at every node (J = q sum o (L - L0), docs/physics.md §3). Only
+/// the elastic tension feeds J, so the pass reads no velocities and stores nothing per spring;
+/// the a and b ends' sums are separate arrays, so that one loop takes both ends at any offset.
+template <typename Real>
+inline __attribute__((always_inline)) void StretchInflowAlongRun(
+    int n, int d, const Real* __restrict px, const Real* __restrict py, const Real* __restrict pz,
+    const Real* __restrict rest, const Real* __restrict outflow_a, const Real* __restrict outflow_b,
+    Real* __restrict ja, Real* __restrict jb) {
+#pragma omp simd
+  for (int i = 0; i < n; ++i) {
+    const Real rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
+    const Real stretch = SpringLength(rx, ry, rz) - rest[i];
+    ja[i] += outflow_a[i] * stretch;
+    jb[i] += outflow_b[i] * stretch;
   }
 }
 

@@ -38,19 +38,22 @@ inline __attribute__((always_inline)) void LinearizePlainRun(
 
 inline __attribute__((always_inline)) void LinearizeDispersedRun(
     int n, int d, const double* __restrict px, const double* __restrict py,
-    const double* __restrict pz, const double* __restrict t, const double* __restrict inverse,
+    const double* __restrict pz, const double* __restrict k, const double* __restrict rest,
     const double* __restrict out_a, const double* __restrict out_b, const double* __restrict g,
     bool drop_compression, double* __restrict total, double* __restrict ux, double* __restrict uy,
     double* __restrict uz, double* __restrict geometric) {
   for (int i = 0; i < n; ++i) {
     const double rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    // As OutflowRuns sums it.
-    const double tension = t[i] + out_a[i] * g[i] + out_b[i] * g[i + d];
+    const double length = internal::SpringLength(rx, ry, rz);
+    const double inverse_length = 1.0 / length;
+    // As OutflowRuns sums it (SpringForcesAlongRun).
+    const double tension = internal::ElasticTension(k[i], length, rest[i]) +
+                           internal::DispersedTension(out_a[i], g[i], out_b[i], g[i + d]);
     total[i] = tension;
-    ux[i] = rx * inverse[i];
-    uy[i] = ry * inverse[i];
-    uz[i] = rz * inverse[i];
-    geometric[i] = (drop_compression ? std::max(tension, 0.0) : tension) * inverse[i];
+    ux[i] = rx * inverse_length;
+    uy[i] = ry * inverse_length;
+    uz[i] = rz * inverse_length;
+    geometric[i] = (drop_compression ? std::max(tension, 0.0) : tension) * inverse_length;
   }
 }
 
@@ -73,15 +76,14 @@ void LinearizePlainRuns(const ScheduledSprings& springs, int run_begin, int run_
 MSM_SIM_SIMD_CLONES
 void LinearizeDispersedRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                             int num_springs, const NodeArrays& positions,
-                            const double* dispersion_per_weight, const double* tensions,
-                            const double* inverse_lengths, bool drop_compression,
+                            const double* dispersion_per_weight, bool drop_compression,
                             double* total_tensions, double* storage) {
   for (int r = run_begin; r < run_end; ++r) {
     const SpringRun& run = springs.runs[r];
     const int a0 = run.a0, f = run.first;
     double* ux = storage + f;
     LinearizeDispersedRun(run.count, run.offset, positions.x + a0, positions.y + a0,
-                          positions.z + a0, tensions + f, inverse_lengths + f,
+                          positions.z + a0, springs.stiffness + f, springs.rest + f,
                           springs.outflow_a + f, springs.outflow_b + f, dispersion_per_weight + a0,
                           drop_compression, total_tensions + f, ux, ux + num_springs,
                           ux + 2 * num_springs, ux + 3 * num_springs);

@@ -20,14 +20,13 @@ void LinearizePlainRuns(const ScheduledSprings& springs, int run_begin, int run_
                         int num_springs, const NodeArrays& positions, bool drop_compression,
                         double* total_tensions, double* storage);
 
-/// eMSM, after InflowRuns without dampers (`tensions`, `inverse_lengths`) and with
-/// g = J / W per node: the total tensions t + outflow_a g_a + outflow_b g_b into total_tensions
-/// and the linearisation into `storage`, as OutflowRuns followed by LinearizeRuns would give
-/// them, without the forces.
+/// eMSM, with g = J / W per node (after InflowRuns): the total tensions
+/// k (L - L0) + outflow_a g_a + outflow_b g_b into total_tensions and the linearisation into
+/// `storage`, as OutflowRuns without dampers followed by LinearizeRuns would give them, without
+/// the forces.
 void LinearizeDispersedRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                             int num_springs, const NodeArrays& positions,
-                            const double* dispersion_per_weight, const double* tensions,
-                            const double* inverse_lengths, bool drop_compression,
+                            const double* dispersion_per_weight, bool drop_compression,
                             double* total_tensions, double* storage);
 
 /// The stiffness diagonal's per-spring sums at the linearisation: adds each spring's k u^2 +

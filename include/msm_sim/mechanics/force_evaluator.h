@@ -233,6 +233,9 @@ class ForceEvaluator {
   /// The double run kernels (plain or two-pass eMSM) over the spring schedule.
   void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                       Eigen::Matrix3Xd* forces);
+  /// The double run kernels' eMSM first pass over the spring schedule: J per node into
+  /// accumulator_, from the positions as x, y, z blocks of N (`x_arrays`).
+  void InflowRunsToAccumulator(const double* x_arrays);
   /// The single-precision loops (SpringPrecision::kSingle): internal::SinglePasses on the share
   /// plan's node shares.
   void AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -296,8 +299,8 @@ class ForceEvaluator {
   // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
   Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
   Eigen::VectorXd inverse_star_weight_;  // 1 / W per node
-  Eigen::VectorXd tensions_;             // direct tensions (two-pass), in evaluation order
-  Eigen::VectorXd inverse_lengths_;      // 1 / L (two-pass), in evaluation order
+  Eigen::VectorXd tensions_;             // direct tensions (per-spring two-pass), model order
+  Eigen::VectorXd inverse_lengths_;      // 1 / L (per-spring two-pass), model order
   // Direct + dispersed, in model order. After a vectorised evaluation they are in
   // scheduled_totals_ and copied here when first asked for.
   mutable Eigen::VectorXd total_tensions_;
@@ -309,8 +312,10 @@ class ForceEvaluator {
   Eigen::VectorXd scheduled_linearization_;   // u and T / L in schedule order (Linearize)
   mutable Eigen::VectorXd stiffness_arrays_;  // dv and K dv as x, y, z blocks of N each
   mutable Eigen::VectorXd accumulator_change_;
-  Eigen::VectorXd geometric_tensions_;     // T of the geometric stiffness (per-spring path)
-  Eigen::VectorXd accumulator_;            // J per node
+  Eigen::VectorXd geometric_tensions_;  // T of the geometric stiffness (per-spring path)
+  Eigen::VectorXd accumulator_;         // J per node
+  // The double run kernels' first pass: J / q at the springs' a ends (N), then at the b ends.
+  Eigen::VectorXd end_sums_;
   Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
   bool has_previous_dispersion_ = false;
   // The per-spring linearisation (model order), filled only where there is no schedule.
