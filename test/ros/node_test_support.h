@@ -1,6 +1,7 @@
 #pragma once
 // What the rostests of msm_sim_node share (test_msm_sim_node's sources): spinning until a
 // condition holds, and a listener to the node's outputs that can also push on its objects.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <set>
@@ -33,6 +34,21 @@ inline bool WaitFor(const std::function<bool()>& done, double seconds) {
     ros::WallDuration(0.002).sleep();
   }
   return done();
+}
+
+// The rate (Hz) a topic is published at by the node's own stamps: 1 / the median interval
+// between consecutive stamps (0 for fewer than two). Not arrivals counted by the wall clock: on a
+// machine another build keeps busy, deliveries bunch and a late timer tick shortens the next
+// interval, while the median stays the node's period.
+inline double StampedRate(const std::vector<ros::Time>& stamps) {
+  std::vector<double> intervals;
+  for (std::size_t i = 1; i < stamps.size(); ++i) {
+    intervals.push_back((stamps[i] - stamps[i - 1]).toSec());
+  }
+  if (intervals.empty()) return 0.0;
+  const auto middle = intervals.begin() + intervals.size() / 2;
+  std::nth_element(intervals.begin(), middle, intervals.end());
+  return *middle > 0.0 ? 1.0 / *middle : 0.0;
 }
 
 // Listens to the node's outputs.

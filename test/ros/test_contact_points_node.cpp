@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include "node_test_support.h"
+
 namespace {
 
 bool Spin(const std::function<bool()>& done, double seconds) {
@@ -30,19 +32,24 @@ bool Spin(const std::function<bool()>& done, double seconds) {
   return done();
 }
 
-// A cloud topic's messages and their arrival times.
+// A cloud topic's messages.
 struct Clouds {
   explicit Clouds(const std::string& topic) {
     subscriber = handle.subscribe<sensor_msgs::PointCloud2>(
         topic, 1000, [this](const sensor_msgs::PointCloud2::ConstPtr& message) {
           messages.push_back(*message);
-          arrivals.push_back(ros::WallTime::now());
         });
   }
   ros::NodeHandle handle;
   ros::Subscriber subscriber;
   std::vector<sensor_msgs::PointCloud2> messages;
-  std::vector<ros::WallTime> arrivals;
+
+  // The node's rate by its stamps, from message `from` on (msm_sim_test::StampedRate).
+  double Rate(std::size_t from) const {
+    std::vector<ros::Time> stamps;
+    for (std::size_t m = from; m < messages.size(); ++m) stamps.push_back(messages[m].header.stamp);
+    return msm_sim_test::StampedRate(stamps);
+  }
 };
 
 // The documented fields, in order, and whether every value is finite; the force sum (N).
@@ -71,10 +78,6 @@ void CheckCloud(const sensor_msgs::PointCloud2& cloud, const std::string& frame,
     EXPECT_EQ(*object, 0u);  // the one object
     *force_sum += Eigen::Vector3d(f[0], f[1], f[2]);
   }
-}
-
-double Rate(const std::vector<ros::WallTime>& arrivals, std::size_t from) {
-  return (arrivals.size() - 1 - from) / (arrivals.back() - arrivals[from]).toSec();
 }
 
 // The demo finger pressed 4 mm into the default block (clamped to the table) through
@@ -110,8 +113,8 @@ TEST(ContactPoints, CloudsAtTheConfiguredRateFiniteInTheirFrames) {
     publish(-0.093);
     Spin([] { return false; }, 0.01);
   }
-  const double world_rate = Rate(world.arrivals, world_from);
-  const double tip_rate = Rate(tip.arrivals, tip_from);
+  const double world_rate = world.Rate(world_from);
+  const double tip_rate = tip.Rate(tip_from);
   std::size_t world_points = 0, tip_points = 0;
   double worst_sum = 0.0, tip_force = 0.0;
   for (std::size_t m = world_from; m < world.messages.size(); ++m) {
