@@ -66,7 +66,8 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
       << "integrator       " << result.integrator << ", step " << 1e3 * result.step << " ms in "
       << result.substeps << " substeps of " << 1e3 * result.substep << " ms";
   if (options.integrator == core::Integrator::kImplicit) {
-    out << ", " << result.solver_iterations_per_step << " CG iterations per step";
+    out << ", " << result.solver_iterations_per_step << " CG iterations per step ("
+        << contact.preconditioner << ")";
   }
   out << "\n"
       << "simulated        " << result.seconds_simulated << " s in " << result.wall_seconds
@@ -153,7 +154,11 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   }
   PrintScene(arguments, "indentation, base clamped", out);
   PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
-  out << "integrator       " << contact.integrator << ", step " << 1e3 * options.step << " ms\n"
+  out << "integrator       " << contact.integrator
+      << (options.integrator == core::Integrator::kImplicit
+              ? " (" + contact.preconditioner + " preconditioner)"
+              : std::string())
+      << ", step " << 1e3 * options.step << " ms\n"
       << "speed            " << contact.speed << " m/s, depth " << contact.depth
       << " m past first contact (at " << result.contact_time << " s), friction " << contact.friction
       << "\n\n"
