@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "mechanics/share_plan.h"
+#include "mechanics/spring_law_dispatch.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {
@@ -51,9 +52,9 @@ inline double DampingTension(const ForceEvaluator::Damping& damping, const Sprin
 
 }  // namespace
 
-template <SpringLaw Law, bool Damped>
-void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
-                               Eigen::Matrix3Xd* forces) {
+template <bool Damped, class Law>
+void ForceEvaluator::PlainPass(const Law& law, const Eigen::Matrix3Xd& positions,
+                               const Damping& damping, Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   double* __restrict total = total_tensions_.data();
@@ -62,7 +63,7 @@ void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, const Damping&
                            for (int s = begin; s < end; ++s) {
                              double r[3];
                              const double length = Separation(x, springs.a[s], springs.b[s], r);
-                             double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+                             double t = law.Tension(springs.k[s], springs.rest[s], length);
                              if constexpr (Damped)
                                t += DampingTension(damping, springs, s, r, length);
                              total[s] = t;
@@ -71,8 +72,8 @@ void ForceEvaluator::PlainPass(const Eigen::Matrix3Xd& positions, const Damping&
                          });
 }
 
-template <SpringLaw Law>
-void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
+template <class Law>
+void ForceEvaluator::InflowPass(const Law& law, const Eigen::Matrix3Xd& positions) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict inflow_a = inflow_a_.data();
@@ -85,8 +86,7 @@ void ForceEvaluator::InflowPass(const Eigen::Matrix3Xd& positions) {
                            for (int s = begin; s < end; ++s) {
                              double r[3];
                              const double length = Separation(x, springs.a[s], springs.b[s], r);
-                             const double t =
-                                 SpringTension<Law>(springs.k[s], springs.rest[s], length);
+                             const double t = law.Tension(springs.k[s], springs.rest[s], length);
                              tensions[s] = t;
                              inverse_lengths[s] = 1.0 / length;
                              accumulator[springs.a[s]] += inflow_a[s] * t;
@@ -125,9 +125,9 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Dampin
                          });
 }
 
-template <SpringLaw Law, bool Damped>
-void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
-                                Eigen::Matrix3Xd* forces) {
+template <bool Damped, class Law>
+void ForceEvaluator::LaggedPass(const Law& law, const Eigen::Matrix3Xd& positions,
+                                const Damping& damping, Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
   const double* __restrict g = dispersion_per_weight_.data();  // of the previous evaluation
@@ -144,7 +144,7 @@ void ForceEvaluator::LaggedPass(const Eigen::Matrix3Xd& positions, const Damping
     const int b = springs.b[s];
     double r[3];
     const double length = Separation(x, a, b, r);
-    const double t = SpringTension<Law>(springs.k[s], springs.rest[s], length);
+    const double t = law.Tension(springs.k[s], springs.rest[s], length);
     accumulator[a] += inflow_a[s] * t;
     accumulator[b] += inflow_b[s] * t;
     double t_total = t + outflow_a[s] * g[a] + outflow_b[s] * g[b];
@@ -183,23 +183,21 @@ template <bool Damped>
 void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
                                              const Damping& damping, Eigen::Matrix3Xd* forces) {
   totals_scheduled_ = false;
-  const bool linear = model_->spring_law() == SpringLaw::kLinear;
   if (model_->dispersion_fraction() == 0.0) {
-    linear ? PlainPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
-           : PlainPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
+    internal::VisitSpringLaw(
+        *model_, [&](const auto& law) { PlainPass<Damped>(law, positions, damping, forces); });
     if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
     if (barrier_) barrier_->AccumulateForces(positions, forces);
     return;
   }
   if (passes_ == DispersionPasses::kOnePass && has_previous_dispersion_) {
-    linear ? LaggedPass<SpringLaw::kLinear, Damped>(positions, damping, forces)
-           : LaggedPass<SpringLaw::kNonlinear, Damped>(positions, damping, forces);
+    internal::VisitSpringLaw(
+        *model_, [&](const auto& law) { LaggedPass<Damped>(law, positions, damping, forces); });
     dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);  // for next time
   } else {
     // Two passes: the direct tensions fill the accumulators, then every spring applies its
     // direct plus dispersed tension at once.
-    linear ? InflowPass<SpringLaw::kLinear>(positions)
-           : InflowPass<SpringLaw::kNonlinear>(positions);
+    internal::VisitSpringLaw(*model_, [&](const auto& law) { InflowPass(law, positions); });
     dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
     OutflowPass<Damped>(positions, damping, forces);
   }

@@ -10,11 +10,12 @@
 #include "mechanics/force_kernels.h"
 #include "mechanics/share_plan.h"
 #include "mechanics/single_precision_kernels.h"
+#include "mechanics/spring_law_dispatch.h"
 
 namespace msm_sim::core {
 
-template <SpringLaw Law>
-double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
+template <class Law>
+double ForceEvaluator::EnergyImpl(const Law& law, const Eigen::Matrix3Xd& positions) const {
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const auto& rest = model_->spring_rest_length();
@@ -24,9 +25,9 @@ double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
   double energy = 0.0;
   for (int s = 0; s < model_->num_springs(); ++s) {
     const double length = (positions.col(b[s]) - positions.col(a[s])).norm();
-    energy += SpringEnergy<Law>(k[s], rest[s], length);
+    energy += law.Energy(k[s], rest[s], length);
     if (q != 0.0) {
-      const double t = SpringTension<Law>(k[s], rest[s], length);
+      const double t = law.Tension(k[s], rest[s], length);
       accumulator[a[s]] += inflow_a_[s] * t;
       accumulator[b[s]] += inflow_b_[s] * t;
     }
@@ -50,14 +51,13 @@ double ForceEvaluator::EnergyImpl(const Eigen::Matrix3Xd& positions) const {
 }
 
 double ForceEvaluator::ElasticEnergy(const Eigen::Matrix3Xd& positions) const {
-  const double springs = model_->spring_law() == SpringLaw::kLinear
-                             ? EnergyImpl<SpringLaw::kLinear>(positions)
-                             : EnergyImpl<SpringLaw::kNonlinear>(positions);
+  const double springs = internal::VisitSpringLaw(
+      *model_, [&](const auto& law) { return EnergyImpl(law, positions); });
   return barrier_ ? springs + barrier_->Energy(positions) : springs;
 }
 
-template <SpringLaw Law>
-void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
+template <class Law>
+void ForceEvaluator::LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& positions) {
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const auto& rest = model_->spring_rest_length();
@@ -66,7 +66,7 @@ void ForceEvaluator::LinearizeImpl(const Eigen::Matrix3Xd& positions) {
     const Eigen::Vector3d r = positions.col(b[s]) - positions.col(a[s]);
     lengths_[s] = r.norm();
     directions_.col(s) = r / lengths_[s];
-    tangent_stiffness_[s] = SpringTangentStiffness<Law>(k[s], rest[s], lengths_[s]);
+    tangent_stiffness_[s] = law.TangentStiffness(k[s], rest[s], lengths_[s]);
   }
 }
 
@@ -102,8 +102,7 @@ void ForceEvaluator::LinearizePerSpring(const Eigen::Matrix3Xd& positions,
   directions_.resize(3, count);
   lengths_.resize(count);
   tangent_stiffness_.resize(count);
-  model_->spring_law() == SpringLaw::kLinear ? LinearizeImpl<SpringLaw::kLinear>(positions)
-                                             : LinearizeImpl<SpringLaw::kNonlinear>(positions);
+  internal::VisitSpringLaw(*model_, [&](const auto& law) { LinearizeImpl(law, positions); });
   geometric_tensions_ =
       geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
 }

@@ -19,9 +19,11 @@ namespace {
 void Validate(const StableTimeStepOptions& options) {
   if (!(options.safety > 0.0 && options.safety <= 1.0) ||
       !(options.min_compression > 0.0 && options.min_compression <= 1.0) ||
+      !(options.max_stretch >= 1.0) || !std::isfinite(options.max_stretch) ||
       !(options.damping_beta >= 0.0) || !std::isfinite(options.damping_beta)) {
     throw std::invalid_argument(
-        "stable time step: need safety and min_compression in (0, 1] and damping >= 0");
+        "stable time step: need safety and min_compression in (0, 1], max_stretch finite and "
+        ">= 1 and damping >= 0");
   }
 }
 
@@ -160,11 +162,26 @@ double LargestEigenvalueByPowerIteration(const Operator& stiffness, Eigen::Matri
   return lambda * 1.05;  // power iteration approaches from below (docs/physics.md §7)
 }
 
-// Carrier springs' tangent grows as (L0 / L)^2 under compression: the factor on K's eigenvalues.
-double Stiffening(SpringLaw spring_law, const StableTimeStepOptions& options) {
-  return spring_law == SpringLaw::kNonlinear
-             ? 1.0 / (options.min_compression * options.min_compression)
-             : 1.0;
+// The factor on K's eigenvalues: the largest tangent over k for stretches s in [c, S] (c =
+// min_compression, S = max_stretch). Carrier springs: (L0 / L)^2, largest at c. The power law
+// (docs/physics.md §4.1): s^(alpha-1) + 3 beta (s-1)^2, each term largest at c or S, so the sum
+// of their maxima bounds it (exact for beta = 0).
+double Stiffening(const Model& model, const StableTimeStepOptions& options) {
+  const double c = options.min_compression, stretch = options.max_stretch;
+  switch (model.spring_law()) {
+    case SpringLaw::kLinear:
+      return 1.0;
+    case SpringLaw::kNonlinear:
+      return 1.0 / (c * c);
+    case SpringLaw::kPower: {
+      const PowerSpringLaw& law = model.power_spring_law();
+      const double power =
+          std::max(std::pow(c, law.alpha - 1.0), std::pow(stretch, law.alpha - 1.0));
+      const double far = std::max(1.0 - c, stretch - 1.0);
+      return std::max(1.0, power + 3.0 * law.beta * far * far);
+    }
+  }
+  throw std::logic_error("stable time step: unknown spring law");
 }
 
 // The position-Verlet limit (without the safety factor) for the largest eigenvalues lambda of
@@ -258,7 +275,7 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
     start = (start.array().rowwise() * free).matrix();
     start /= start.norm();
   }
-  const double stiffening = Stiffening(model.spring_law(), options);
+  const double stiffening = Stiffening(model, options);
   const bool symmetric = evaluator.stiffness_is_symmetric();
   const double lambda =
       stiffening * (symmetric ? LargestEigenvalueByRayleighRitz(stiffness, start)

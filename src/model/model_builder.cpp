@@ -45,6 +45,22 @@ void ModelBuilder::SetDispersionWeight(SpringIndex spring, NodeIndex node, doubl
   (node_a_[spring] == node ? weight_a_ : weight_b_)[spring] = weight;
 }
 
+void ModelBuilder::SetSpringLaw(SpringLaw law, const PowerSpringLaw& power) {
+  if (law == SpringLaw::kPower &&
+      !(std::isfinite(power.alpha) && std::isfinite(power.beta) && power.beta >= 0.0)) {
+    throw std::invalid_argument(
+        "power spring law: alpha must be finite and beta finite and >= 0, got alpha " +
+        std::to_string(power.alpha) + ", beta " + std::to_string(power.beta));
+  }
+  spring_law_ = law;
+  // The members of the family of docs/physics.md §4.1 that the other laws are.
+  if (law == SpringLaw::kPower) {
+    power_spring_law_ = power;
+  } else {
+    power_spring_law_ = PowerSpringLaw{law == SpringLaw::kLinear ? 1.0 : -1.0, 0.0};
+  }
+}
+
 Model ModelBuilder::Build(double volume, double characteristic_length) const {
   if (masses_.empty()) throw std::invalid_argument("the model has no nodes");
   if (!(volume > 0.0) || !(characteristic_length > 0.0)) {
@@ -84,6 +100,7 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
     model.incident_springs_[cursor[node_b_[s]]++] = static_cast<SpringIndex>(s);
   }
   model.spring_law_ = spring_law_;
+  model.power_spring_law_ = power_spring_law_;
   model.dispersion_fraction_ = dispersion_fraction_;
   model.self_calibration_ = self_calibration_;
   model.volume_ = volume;

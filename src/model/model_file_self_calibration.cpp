@@ -49,6 +49,9 @@ static_assert(Packed({{L::kPresent, kU32Bytes},
 void PutConditions(const Conditions& conditions, unsigned char* record) {
   PutU32(conditions.lattice, record + L::kLattice);
   PutU32(conditions.stiffness_law, record + L::kStiffnessLaw);
+  if (conditions.spring_law == SpringLaw::kPower) {
+    throw std::runtime_error("SaveModel: a self-calibration for power-law springs cannot be saved");
+  }
   PutU32(conditions.spring_law == SpringLaw::kLinear ? kLinearLawCode : kNonlinearLawCode,
          record + L::kSpringLaw);
   PutU32(conditions.isotropic_dispersion ? 1 : 0, record + L::kIsotropicDispersion);

@@ -4,9 +4,13 @@
 
 namespace msm_sim::core {
 
-Model TransformedModel(const Model& model, const Eigen::Isometry3d& pose) {
+namespace {
+
+// `model` rebuilt with its rest positions moved by `pose` and its springs following `law`.
+Model Rebuilt(const Model& model, const Eigen::Isometry3d& pose, SpringLaw law,
+              const PowerSpringLaw& power) {
   ModelBuilder builder(model.material());
-  builder.SetSpringLaw(model.spring_law());
+  builder.SetSpringLaw(law, power);
   builder.SetDispersionFraction(model.dispersion_fraction());
   builder.SetSelfCalibration(model.self_calibration());
   for (NodeIndex i = 0; i < model.num_nodes(); ++i) {
@@ -24,6 +28,16 @@ Model TransformedModel(const Model& model, const Eigen::Isometry3d& pose) {
     builder.AddCorrectionElement(model.correction_edges()[e], model.correction_coefficients()[e]);
   }
   return builder.Build(model.volume(), model.characteristic_length());
+}
+
+}  // namespace
+
+Model TransformedModel(const Model& model, const Eigen::Isometry3d& pose) {
+  return Rebuilt(model, pose, model.spring_law(), model.power_spring_law());
+}
+
+Model WithSpringLaw(const Model& model, SpringLaw law, const PowerSpringLaw& power) {
+  return Rebuilt(model, Eigen::Isometry3d::Identity(), law, power);
 }
 
 }  // namespace msm_sim::core

@@ -1,10 +1,12 @@
 // The spring laws (docs/physics.md §4): names, tensions, stiffnesses and energies at lengths worked
-// out by hand.
+// out by hand; the power law of §4.1 against numerical derivatives and integrals of itself and
+// against the linear and carrier laws it contains.
 #include <cmath>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "msm_sim/material/power_spring_law.h"
 #include "msm_sim/material/spring_law.h"
 
 namespace msm_sim::core {
@@ -105,6 +107,86 @@ void ExpectDerivativesConsistent() {
 TEST(SpringLaw, LinearEnergyDerivativeIsTension) { ExpectDerivativesConsistent<kLinear>(); }
 
 TEST(SpringLaw, CarrierEnergyDerivativeIsTension) { ExpectDerivativesConsistent<kCarrier>(); }
+
+// The power law at the fitted range of alpha (docs/materials.md: -4.8 to -2), its limits alpha = 0
+// and alpha = -1 and the linear law, with and without the stiffening term.
+const PowerSpringLaw kPowerLaws[] = {{1.0, 0.0},  {-1.0, 0.0}, {0.0, 0.0},     {1e-6, 0.2},
+                                     {-2.5, 0.0}, {0.5, 0.3},  {-4.54, 0.116}, {-1.0, 0.5},
+                                     {0.0, 1.0},  {2.0, 0.1}};
+const double kLengths[] = {0.002, 0.005, 0.009, 0.0101, 0.012, 0.02, 0.03};
+
+TEST(PowerSpringLaw, TangentAndTensionAreDerivatives) {
+  for (const PowerSpringLaw& law : kPowerLaws) {
+    for (const double length : kLengths) {
+      const double step = 1e-6 * length;
+      const double energy_slope =
+          (law.Energy(kK, kRest, length + step) - law.Energy(kK, kRest, length - step)) /
+          (2.0 * step);
+      const double tension = law.Tension(kK, kRest, length);
+      EXPECT_NEAR(energy_slope, tension, 1e-6 * std::abs(tension) + 1e-9)
+          << "alpha " << law.alpha << " beta " << law.beta << " L " << length;
+      const double tension_slope =
+          (law.Tension(kK, kRest, length + step) - law.Tension(kK, kRest, length - step)) /
+          (2.0 * step);
+      const double tangent = law.TangentStiffness(kK, kRest, length);
+      EXPECT_NEAR(tension_slope, tangent, 1e-6 * tangent)
+          << "alpha " << law.alpha << " beta " << law.beta << " L " << length;
+      EXPECT_GT(law.Energy(kK, kRest, length), 0.0);
+    }
+    EXPECT_EQ(law.Energy(kK, kRest, kRest), 0.0);
+    EXPECT_DOUBLE_EQ(law.TangentStiffness(kK, kRest, kRest), kK);
+  }
+}
+
+// The integral of the tension from L0 to L by composite Simpson (4000 intervals).
+double IntegratedTension(const PowerSpringLaw& law, double length) {
+  const int intervals = 4000;
+  const double h = (length - kRest) / intervals;
+  double sum = law.Tension(kK, kRest, kRest) + law.Tension(kK, kRest, length);
+  for (int i = 1; i < intervals; ++i) {
+    sum += (i % 2 == 1 ? 4.0 : 2.0) * law.Tension(kK, kRest, kRest + i * h);
+  }
+  return sum * h / 3.0;
+}
+
+TEST(PowerSpringLaw, EnergyIsTheIntegralOfTheTension) {
+  for (const PowerSpringLaw& law : kPowerLaws) {
+    for (const double length : kLengths) {
+      const double integral = IntegratedTension(law, length);
+      EXPECT_NEAR(law.Energy(kK, kRest, length), integral, 1e-8 * integral)
+          << "alpha " << law.alpha << " beta " << law.beta << " L " << length;
+    }
+  }
+  // Either side of the alpha = 0 switch the energy is continuous to O(alpha^2).
+  for (const double length : kLengths) {
+    const double below = PowerSpringLaw{0.99e-4, 0.0}.Energy(kK, kRest, length);
+    const double above = PowerSpringLaw{1.01e-4, 0.0}.Energy(kK, kRest, length);
+    EXPECT_NEAR(below, above, 1e-5 * above) << "L " << length;
+  }
+}
+
+TEST(PowerSpringLaw, ContainsTheLinearAndCarrierLaws) {
+  const PowerSpringLaw linear{1.0, 0.0}, carrier{-1.0, 0.0};
+  for (const double length : kLengths) {
+    const double t_linear = SpringTension<kLinear>(kK, kRest, length);
+    const double t_carrier = SpringTension<kCarrier>(kK, kRest, length);
+    EXPECT_NEAR(linear.Tension(kK, kRest, length), t_linear, 1e-12 * std::abs(t_linear));
+    EXPECT_NEAR(carrier.Tension(kK, kRest, length), t_carrier, 1e-12 * std::abs(t_carrier));
+    const double w_linear = SpringEnergy<kLinear>(kK, kRest, length);
+    const double w_carrier = SpringEnergy<kCarrier>(kK, kRest, length);
+    EXPECT_NEAR(linear.Energy(kK, kRest, length), w_linear, 1e-12 * w_linear);
+    EXPECT_NEAR(carrier.Energy(kK, kRest, length), w_carrier, 1e-12 * w_carrier);
+    EXPECT_NEAR(linear.TangentStiffness(kK, kRest, length),
+                SpringTangentStiffness<kLinear>(kK, kRest, length), 1e-12 * kK);
+    EXPECT_NEAR(carrier.TangentStiffness(kK, kRest, length),
+                SpringTangentStiffness<kCarrier>(kK, kRest, length),
+                1e-12 * SpringTangentStiffness<kCarrier>(kK, kRest, length));
+  }
+  // At alpha = 0: W = k L0^2 (s ln s - s + 1), here at s = 2.
+  const PowerSpringLaw logarithmic{0.0, 0.0};
+  EXPECT_NEAR(logarithmic.Energy(kK, kRest, 2.0 * kRest),
+              kK * kRest * kRest * (2.0 * std::log(2.0) - 1.0), 1e-15);
+}
 
 }  // namespace
 }  // namespace msm_sim::core

@@ -11,6 +11,7 @@
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_builder.h"
+#include "msm_sim/model/model_transform.h"
 
 namespace msm_sim::core {
 namespace {
@@ -154,6 +155,65 @@ TEST_P(ForceEvaluatorLaws, BaudetCorrectionIsExactlyLinearisedAndConservative) {
 
 INSTANTIATE_TEST_SUITE_P(Laws, ForceEvaluatorLaws,
                          ::testing::Values(SpringLaw::kLinear, SpringLaw::kNonlinear));
+
+// The power law of docs/physics.md §4.1 on the per-spring path: alpha = 1, beta = 0 gives the
+// linear springs' forces, energy and stiffness and alpha = -1, beta = 0 the carrier springs', in
+// the plain, two-pass and one-pass (lagged) eMSM loops, to 1e-12 of the largest value.
+void ExpectPowerLawReproduces(const Model& model, double alpha) {
+  const Model power = WithSpringLaw(model, SpringLaw::kPower, PowerSpringLaw{alpha, 0.0});
+  for (const DispersionPasses passes : {DispersionPasses::kTwoPass, DispersionPasses::kOnePass}) {
+    ForceEvaluator expected(model, passes, SpringKernels::kPerSpring);
+    ForceEvaluator actual(power, passes);
+    // Two evaluations, so that the one-pass loop runs with its lagged dispersion.
+    for (const unsigned seed : {21u, 22u}) {
+      const Eigen::Matrix3Xd x = Perturbed(model, 0.01, seed);
+      Eigen::Matrix3Xd f_expected = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+      Eigen::Matrix3Xd f_actual = f_expected;
+      expected.AccumulateForces(x, &f_expected);
+      actual.AccumulateForces(x, &f_actual);
+      const double scale = f_expected.cwiseAbs().maxCoeff();
+      ASSERT_GT(scale, 0.0);
+      EXPECT_LE((f_actual - f_expected).cwiseAbs().maxCoeff(), 1e-12 * scale) << "alpha " << alpha;
+      const double energy = expected.ElasticEnergy(x);
+      EXPECT_NEAR(actual.ElasticEnergy(x), energy, 1e-12 * energy);
+      expected.Linearize(x);
+      actual.Linearize(x);
+      Eigen::Matrix3Xd k_expected = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+      Eigen::Matrix3Xd k_actual = k_expected;
+      expected.ApplyStiffness(x, &k_expected);
+      actual.ApplyStiffness(x, &k_actual);
+      EXPECT_LE((k_actual - k_expected).cwiseAbs().maxCoeff(),
+                1e-12 * k_expected.cwiseAbs().maxCoeff());
+    }
+  }
+}
+
+TEST(ForceEvaluator, PowerLawContainsTheLinearAndCarrierLaws) {
+  for (const double poisson : {0.25, 0.45}) {  // without and with dispersion
+    ExpectPowerLawReproduces(RandomModel(poisson, SpringLaw::kLinear), 1.0);
+    ExpectPowerLawReproduces(RandomModel(poisson, SpringLaw::kNonlinear), -1.0);
+  }
+}
+
+TEST(ForceEvaluator, PowerLawIsExactlyLinearisedAndConservative) {
+  // A fitted law (Ecoflex 00-30, docs/materials.md) and one with a strong upturn, at strains of
+  // several per cent. Forces are the energy gradient without dispersion (with it, as for the
+  // carrier law, the inflow follows the tangent and there is no potential).
+  for (const PowerSpringLaw law : {PowerSpringLaw{-4.54, 0.116}, PowerSpringLaw{0.5, 2.0}}) {
+    for (const double poisson : {0.25, 0.45}) {
+      SCOPED_TRACE(poisson);
+      const Model model =
+          WithSpringLaw(RandomModel(poisson, SpringLaw::kLinear), SpringLaw::kPower, law);
+      const Eigen::Matrix3Xd x = Perturbed(model, 0.01, 5);
+      ExpectExactLinearisation(model, x, {2, 40, 3 * model.num_nodes() - 2});
+      EXPECT_EQ(ForceEvaluator(model).stiffness_is_symmetric(), poisson == 0.25);
+      if (poisson == 0.25) {
+        ExpectForcesAreMinusEnergyGradient(model, x, {0, 7, 31});
+      }
+      EXPECT_LT(Forces(model, x).rowwise().sum().norm(), 1e-9);  // Newton's third law
+    }
+  }
+}
 
 TEST(ForceEvaluator, DispersionAddsQTimesTheDirectBulkResponse) {
   // docs/physics.md §3: under uniform dilatation eps, sum over springs of t*_n L0_n = 2 q sum k

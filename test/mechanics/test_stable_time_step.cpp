@@ -1,5 +1,6 @@
 // The explicit step against the spectral radius of position Verlet's one-step map, formed
 // densely from K and the dampers' C on small blocks.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -12,6 +13,7 @@
 #include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/mechanics/stable_time_step.h"
+#include "msm_sim/model/model_builder.h"
 
 namespace msm_sim::core {
 namespace {
@@ -258,6 +260,50 @@ TEST(StableTimeStep, ASofterOuterLayerLengthensTheStepAtNuNearOneHalf) {
   // A smaller share gains less and less: the layer beneath, carrying more bulk, takes over.
   EXPECT_GT(quarter / softer, 1.02);
   EXPECT_LT(quarter / plain, 1.66);  // the held layer's gain (the test above)
+}
+
+// One spring (k = 100 N/m, L0 = 1 m) between unit masses: omega_max^2 = 2 k times the law's
+// stiffening, so the square of the step's ratio to the linear law's is that stiffening.
+double TwoMassStep(SpringLaw law, const PowerSpringLaw& power,
+                   const StableTimeStepOptions& options) {
+  ModelBuilder builder(Material::FromYoungsPoisson(1e4, 0.25, 1000.0));
+  builder.AddNode({0, 0, 0}, 1.0);
+  builder.AddNode({1, 0, 0}, 1.0);
+  builder.AddSpring(0, 1, 100.0);
+  builder.SetSpringLaw(law, power);
+  return StableTimeStep(builder.Build(1.0, 1.0), options);
+}
+
+TEST(StableTimeStep, PowerLawStepHoldsForItsTangentFromMinCompressionToMaxStretch) {
+  StableTimeStepOptions options;
+  options.min_compression = 0.7;
+  options.max_stretch = 2.0;
+  const double linear = TwoMassStep(SpringLaw::kLinear, {}, options);
+  ASSERT_TRUE(std::isfinite(linear));
+  EXPECT_NEAR(TwoMassStep(SpringLaw::kPower, {1.0, 0.0}, options), linear, 1e-12 * linear);
+  const double carrier = TwoMassStep(SpringLaw::kNonlinear, {}, options);
+  EXPECT_NEAR(TwoMassStep(SpringLaw::kPower, {-1.0, 0.0}, options), carrier, 1e-12 * carrier);
+  const double c = options.min_compression, stretch = options.max_stretch;
+  const double far = std::max(1.0 - c, stretch - 1.0);
+  for (const PowerSpringLaw law : {PowerSpringLaw{-4.54, 0.116}, PowerSpringLaw{-2.5, 0.0},
+                                   PowerSpringLaw{0.5, 0.3}, PowerSpringLaw{2.0, 0.5}}) {
+    SCOPED_TRACE(law.alpha);
+    const double ratio = linear / TwoMassStep(SpringLaw::kPower, law, options);
+    const double stiffening = ratio * ratio;
+    // The largest tangent over k on [c, S], sampled.
+    double largest = 0.0;
+    for (int i = 0; i <= 1000; ++i) {
+      largest = std::max(largest, law.TangentStiffness(1.0, 1.0, c + (stretch - c) * i / 1000.0));
+    }
+    EXPECT_GE(stiffening, largest * (1.0 - 1e-9));                       // never too long a step
+    EXPECT_LE(stiffening, largest + 3.0 * law.beta * far * far + 1e-9);  // nor needlessly short
+    // Exact where both terms peak at the same end (beta = 0, or alpha >= 1 with S - 1 > 1 - c).
+    if (law.beta == 0.0 || law.alpha >= 1.0) {
+      EXPECT_NEAR(stiffening, largest, 1e-9 * largest);
+    }
+  }
+  options.max_stretch = 0.9;
+  EXPECT_THROW(TwoMassStep(SpringLaw::kPower, {-2.0, 0.1}, options), std::invalid_argument);
 }
 
 }  // namespace

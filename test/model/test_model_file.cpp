@@ -29,6 +29,7 @@
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 #include "msm_sim/model/model_file.h"
+#include "msm_sim/model/model_transform.h"
 #include "msm_sim/model/state.h"
 
 namespace msm_sim::core {
@@ -263,6 +264,18 @@ TEST_F(ModelFileTest, SaveReplacesAnExistingFileAndLeavesNoTemporaryFile) {
     EXPECT_EQ(entry.path().filename(), "model.msm");
   }
   EXPECT_EQ(files, 1);
+}
+
+TEST_F(ModelFileTest, SaveRefusesPowerLawSpringsAndWritesNothing) {
+  // The format has no field for (alpha, beta): a power-law model must not be saved as another law.
+  const Model model = WithSpringLaw(BaudetModel(0.1), SpringLaw::kPower, PowerSpringLaw{-2.0, 0.1});
+  try {
+    SaveModel(model, Path("power.msm"));
+    ADD_FAILURE() << "SaveModel wrote a power-law model";
+  } catch (const std::runtime_error& e) {
+    EXPECT_CONTAINS(std::string(e.what()), "power-law");
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir_));
 }
 
 TEST_F(ModelFileTest, SaveToAnUnwritablePathThrows) {

@@ -176,5 +176,18 @@ TEST(ModelTransform, MovesEverySpringAlongTheRotatedDirection) {
   }
 }
 
+TEST(ModelTransform, CarriesThePowerLawAndChangesTheLaw) {
+  const Model model = HandBuiltEmsm();
+  const Model power = WithSpringLaw(model, SpringLaw::kPower, PowerSpringLaw{-4.54, 0.116});
+  EXPECT_EQ(power.spring_law(), SpringLaw::kPower);
+  EXPECT_TRUE(power.rest_positions() == model.rest_positions());
+  EXPECT_EQ(power.spring_rest_length(), model.spring_rest_length());
+  const Model moved = TransformedModel(power, SomePose());
+  EXPECT_EQ(moved.spring_law(), SpringLaw::kPower);
+  EXPECT_EQ(moved.power_spring_law().alpha, -4.54);
+  EXPECT_EQ(moved.power_spring_law().beta, 0.116);
+  ExpectSamePhysics(moved, power, SomePose());
+}
+
 }  // namespace
 }  // namespace msm_sim::core

@@ -36,6 +36,33 @@ struct PowerSpringLaw {
     const double d = s - 1.0;
     return k * (std::pow(s, alpha - 1.0) + 3.0 * beta * d * d);
   }
+
+  /// Stored energy (J), the integral of Tension from l0 to l (docs/physics.md §4.1):
+  /// W = k L0^2 [ ((s^(alpha+1) - 1) / (alpha+1) - (s - 1)) / alpha + beta (s - 1)^4 / 4 ].
+  double Energy(double k, double l0, double l) const {
+    const double d = (l - l0) / l0;
+    const double d2 = d * d;
+    return k * l0 * l0 * (PowerIntegral(d) + 0.25 * beta * d2 * d2);
+  }
+
+ private:
+  /// The integral of PowerTerm from 1 to s = 1 + d. With u = ln s and phi(c) = (e^(c u) - 1) / c
+  /// it is (phi(alpha + 1) - phi(1)) / alpha; near alpha = 0 that quotient cancels, so there
+  /// it is phi'(1) + alpha phi''(1) / 2 (s ln s - s + 1 at alpha = 0, error O(alpha^2)).
+  double PowerIntegral(double d) const {
+    const double u = std::log1p(d);
+    if (std::abs(alpha) < 1e-4) {
+      const double s = 1.0 + d;
+      return s * u - d + 0.5 * alpha * (s * u * u - 2.0 * s * u + 2.0 * d);
+    }
+    return (Phi(alpha + 1.0, u) - d) / alpha;
+  }
+
+  /// phi(c) = expm1(c u) / c, its limit u at c = 0 (alpha = -1: the carrier's s - 1 - ln s).
+  static double Phi(double c, double u) {
+    if (std::abs(c) < 1e-12) return u;
+    return std::expm1(c * u) / c;
+  }
 };
 
 }  // namespace msm_sim::core

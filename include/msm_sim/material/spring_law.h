@@ -13,39 +13,65 @@ enum class SpringLaw {
   /// Carrier model: t = k L0 (L - L0) / L, W = k L0^2 (dL/L0 - ln(1 + dL/L0)). The compressive
   /// force diverges as L -> 0, so a spring cannot collapse.
   kNonlinear,
+  /// The fitted two-parameter law of docs/physics.md §4.1 (PowerSpringLaw, whose model-wide
+  /// alpha and beta the Model carries); alpha = 1, beta = 0 is kLinear, alpha = -1 kNonlinear.
+  kPower,
 };
 
 /// Parses "linear" / "nonlinear"; returns false for anything else.
 bool ParseSpringLaw(const std::string& name, SpringLaw* law);
 
+/// The laws as types with Tension (N, > 0 stretched), TangentStiffness (dt/dL, N/m) and Energy
+/// (J) of a spring of stiffness k, rest length l0 and length l: the force loops are templated on
+/// them (PowerSpringLaw, power_spring_law.h, is the third), so the law is chosen once per loop.
+struct LinearSpringLaw {
+  static double Tension(double k, double l0, double l) { return k * (l - l0); }
+  static double TangentStiffness(double k, double, double) { return k; }
+  static double Energy(double k, double l0, double l) {
+    const double stretch = l - l0;
+    return 0.5 * k * stretch * stretch;
+  }
+};
+
+struct CarrierSpringLaw {
+  static double Tension(double k, double l0, double l) { return k * l0 * (l - l0) / l; }
+  static double TangentStiffness(double k, double l0, double l) { return k * l0 * l0 / (l * l); }
+  static double Energy(double k, double l0, double l) {
+    const double stretch = l - l0;
+    return k * l0 * l0 * (stretch / l0 - std::log1p(stretch / l0));
+  }
+};
+
 /// Tension (N, > 0 stretched) of a spring of stiffness k, rest length l0 and length l.
 template <SpringLaw Law>
 inline double SpringTension(double k, double l0, double l) {
+  static_assert(Law != SpringLaw::kPower, "the power law needs its parameters: PowerSpringLaw");
   if constexpr (Law == SpringLaw::kLinear) {
-    return k * (l - l0);
+    return LinearSpringLaw::Tension(k, l0, l);
   } else {
-    return k * l0 * (l - l0) / l;
+    return CarrierSpringLaw::Tension(k, l0, l);
   }
 }
 
 /// dt/dL (N/m).
 template <SpringLaw Law>
 inline double SpringTangentStiffness(double k, double l0, double l) {
+  static_assert(Law != SpringLaw::kPower, "the power law needs its parameters: PowerSpringLaw");
   if constexpr (Law == SpringLaw::kLinear) {
-    return k;
+    return LinearSpringLaw::TangentStiffness(k, l0, l);
   } else {
-    return k * l0 * l0 / (l * l);
+    return CarrierSpringLaw::TangentStiffness(k, l0, l);
   }
 }
 
 /// Stored energy (J).
 template <SpringLaw Law>
 inline double SpringEnergy(double k, double l0, double l) {
-  const double stretch = l - l0;
+  static_assert(Law != SpringLaw::kPower, "the power law needs its parameters: PowerSpringLaw");
   if constexpr (Law == SpringLaw::kLinear) {
-    return 0.5 * k * stretch * stretch;
+    return LinearSpringLaw::Energy(k, l0, l);
   } else {
-    return k * l0 * l0 * (stretch / l0 - std::log1p(stretch / l0));
+    return CarrierSpringLaw::Energy(k, l0, l);
   }
 }
 

@@ -200,8 +200,9 @@ class ForceEvaluator {
   void Linearize(const Eigen::Matrix3Xd& positions,
                  GeometricStiffness geometric = GeometricStiffness::kExact);
   /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric except
-  /// for carrier springs with dispersion (stiffness_is_symmetric). Precondition: Linearize was
-  /// called; v and out are 3 x N. Uses the evaluator's scratch: not for concurrent calls.
+  /// for carrier or power-law springs with dispersion (stiffness_is_symmetric). Precondition:
+  /// Linearize was called; v and out are 3 x N. Uses the evaluator's scratch: not for concurrent
+  /// calls.
   void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The diagonal of K (3 x N) at the last Linearize, exact.
   Eigen::Matrix3Xd StiffnessDiagonal() const;
@@ -212,7 +213,8 @@ class ForceEvaluator {
   /// Linearize went through the run kernels (build it with SpringKernels::kPerSpring).
   Eigen::SparseMatrix<double> StiffnessMatrix() const;
   /// K is symmetric without dispersion, and with it for linear springs (the dispersion then has
-  /// a potential); with carrier springs the inflow follows the tangent k' and the outflow k.
+  /// a potential); with carrier or power-law springs the inflow follows the tangent k' and the
+  /// outflow k.
   bool stiffness_is_symmetric() const {
     return model_->dispersion_fraction() == 0.0 || model_->spring_law() == SpringLaw::kLinear;
   }
@@ -250,16 +252,17 @@ class ForceEvaluator {
   template <bool Damped>
   void AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                Eigen::Matrix3Xd* forces);
-  template <SpringLaw Law, bool Damped>
-  void PlainPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+  // The per-spring loops are templated on a law type (spring_law.h, internal::VisitSpringLaw).
+  template <bool Damped, class Law>
+  void PlainPass(const Law& law, const Eigen::Matrix3Xd& positions, const Damping& damping,
                  Eigen::Matrix3Xd* forces);
-  template <SpringLaw Law>
-  void InflowPass(const Eigen::Matrix3Xd& positions);
+  template <class Law>
+  void InflowPass(const Law& law, const Eigen::Matrix3Xd& positions);
   template <bool Damped>
   void OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
                    Eigen::Matrix3Xd* forces);
-  template <SpringLaw Law, bool Damped>
-  void LaggedPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
+  template <bool Damped, class Law>
+  void LaggedPass(const Law& law, const Eigen::Matrix3Xd& positions, const Damping& damping,
                   Eigen::Matrix3Xd* forces);
   void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
@@ -277,10 +280,10 @@ class ForceEvaluator {
   void ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// Rounds the springs' data and the last linearisation to float for ApplySingleStiffnessRuns.
   void RoundLinearization();
-  template <SpringLaw Law>
-  double EnergyImpl(const Eigen::Matrix3Xd& positions) const;
-  template <SpringLaw Law>
-  void LinearizeImpl(const Eigen::Matrix3Xd& positions);
+  template <class Law>
+  double EnergyImpl(const Law& law, const Eigen::Matrix3Xd& positions) const;
+  template <class Law>
+  void LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& positions);
   /// Linearize's per-spring path (models without the run kernels): a double two-pass
   /// evaluation, then each spring's u, L and tangent stiffness in model order.
   void LinearizePerSpring(const Eigen::Matrix3Xd& positions, GeometricStiffness geometric);

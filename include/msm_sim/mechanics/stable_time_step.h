@@ -11,9 +11,13 @@ struct StableTimeStepOptions {
   /// Fraction of the stability limit to use (< 1 leaves room for contacts and prescribed
   /// motion, which the limit does not see).
   double safety = 0.8;
-  /// Carrier springs stiffen under compression (tangent k (L0 / L)^2); the step stays stable
-  /// for springs compressed down to this fraction of their rest length.
+  /// Carrier springs stiffen under compression (tangent k (L0 / L)^2), as do power-law springs
+  /// with alpha < 1 (docs/physics.md §4.1); the step stays stable for springs compressed down to
+  /// this fraction of their rest length.
   double min_compression = 0.7;
+  /// Power-law springs with beta > 0 (or alpha > 1) stiffen in tension; the step stays stable
+  /// for springs stretched up to this multiple of their rest length (>= 1).
+  double max_stretch = 2.0;
   /// Nodes that do not move (clamped or driven): the integrator never advances them, so their
   /// masses do not limit the step; their rows and columns are left out of K and C. Face anchors
   /// (AnchorNodes), whose token mass would otherwise give a step 10^3 times too short, must be
@@ -46,9 +50,11 @@ struct StableTimeStepOptions {
 /// is not symmetric, does it fall back to power iteration (300 iterations at most), whose
 /// estimate approaches from below and is therefore raised by the factor 1.05, and keep the
 /// sufficient bound with dampers. For carrier springs omega_max is also raised by the stiffening of
-/// springs compressed to min_compression. A model without springs, or whose nodes are all fixed,
+/// springs compressed to min_compression, for power-law springs by a bound on their tangent
+/// between min_compression and max_stretch. A model without springs, or whose nodes are all fixed,
 /// gives +infinity. Throws std::invalid_argument for options out of range (safety in (0, 1],
-/// min_compression in (0, 1], damping >= 0, fixed nodes that are not nodes of the model).
+/// min_compression in (0, 1], max_stretch >= 1, damping >= 0, fixed nodes that are not nodes of the
+/// model).
 double StableTimeStep(const Model& model, const StableTimeStepOptions& options = {});
 
 }  // namespace msm_sim::core

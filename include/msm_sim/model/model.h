@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "msm_sim/material/material.h"
+#include "msm_sim/material/power_spring_law.h"
 #include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/self_calibration.h"
 
@@ -69,6 +70,9 @@ class Model {
 
   /// Tension law shared by every spring.
   SpringLaw spring_law() const { return spring_law_; }
+  /// The law's (alpha, beta) in the family of docs/physics.md §4.1, shared by every spring: the
+  /// fitted ones for SpringLaw::kPower, (1, 0) for kLinear and (-1, 0) for kNonlinear.
+  const PowerSpringLaw& power_spring_law() const { return power_spring_law_; }
   /// eMSM dispersion fraction q (docs/physics.md §3); 0 for a plain MSM (nu = 1/4).
   double dispersion_fraction() const { return dispersion_fraction_; }
 
@@ -112,6 +116,7 @@ class Model {
   std::vector<SpringIndex> incident_springs_;
   Material material_;
   SpringLaw spring_law_ = SpringLaw::kLinear;
+  PowerSpringLaw power_spring_law_;
   double dispersion_fraction_ = 0.0;
   double volume_ = 0.0;
   double characteristic_length_ = 0.0;

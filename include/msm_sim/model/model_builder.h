@@ -43,7 +43,10 @@ class ModelBuilder {
     correction_edges_.push_back(edges);
     correction_coefficients_.push_back(coefficient);
   }
-  void SetSpringLaw(SpringLaw law) { spring_law_ = law; }
+  /// The law of every spring; `power` (alpha, beta) is used for SpringLaw::kPower only (see
+  /// Model::power_spring_law). Throws std::invalid_argument for kPower with alpha or beta not
+  /// finite or beta < 0.
+  void SetSpringLaw(SpringLaw law, const PowerSpringLaw& power = PowerSpringLaw{});
   /// eMSM dispersion fraction q; precondition: q > -1/2 (Q > -1).
   void SetDispersionFraction(double q) { dispersion_fraction_ = q; }
   /// The self-calibration the model was corrected by (Model::self_calibration); default none.
@@ -61,6 +64,7 @@ class ModelBuilder {
  private:
   Material material_;
   SpringLaw spring_law_ = SpringLaw::kLinear;
+  PowerSpringLaw power_spring_law_;
   double dispersion_fraction_ = 0.0;
   std::optional<SelfCalibration> self_calibration_;
   std::vector<Eigen::Vector3d> positions_;

@@ -12,4 +12,10 @@ namespace msm_sim::core {
 /// frame; this places the object in the world. Precondition: pose is a rigid transform.
 Model TransformedModel(const Model& model, const Eigen::Isometry3d& pose);
 
+/// The same model with every spring following `law` (`power` its alpha, beta for
+/// SpringLaw::kPower; ModelBuilder::SetSpringLaw): the lattice builders take the law from
+/// LatticeOptions, which names no (alpha, beta) yet. Stiffnesses are unchanged, as the laws
+/// share the small-strain stiffness k (docs/physics.md §4.1).
+Model WithSpringLaw(const Model& model, SpringLaw law, const PowerSpringLaw& power = {});
+
 }  // namespace msm_sim::core
