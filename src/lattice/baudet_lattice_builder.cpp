@@ -102,7 +102,7 @@ Model BuildBaudetLattice(const Material& material, const BaudetLatticeOptions& o
   const BaudetStiffness stiffness = ComputeBaudetStiffness(material, a);
 
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.lattice.spring_law);
+  builder.SetSpringLaw(options.lattice.spring_law, options.lattice.power_law);
   AddLumpedNodes(material, grid, a, &builder);
   const std::vector<SpringIndex> edge_spring = AddEdgeSprings(grid, stiffness.edge, &builder);
   AddDiagonalsAndCorrections(grid, stiffness, options.orthogonal_correction, edge_spring, &builder);

@@ -23,7 +23,7 @@ BoxLattice Box(const CubicLatticeOptions& options) { return BoxOf(options.size, 
 
 ModelBuilder MakeBuilder(const Material& material, const CubicLatticeOptions& options) {
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.lattice.spring_law);
+  builder.SetSpringLaw(options.lattice.spring_law, options.lattice.power_law);
   builder.SetDispersionFraction(DispersionFraction(material.poisson_ratio()));
   return builder;
 }
@@ -45,7 +45,8 @@ Model BuildNodeCentred(const Material& material, const CubicLatticeOptions& opti
     }
   }
   if (cells.coords.empty()) throw std::invalid_argument("no lattice node falls inside the box");
-  return BuildNodeCentredModel(material, cells, options.surface, options.lattice.spring_law);
+  return BuildNodeCentredModel(material, cells, options.surface, options.lattice.spring_law,
+                               options.lattice.power_law);
 }
 
 Model BuildElementCorner(const Material& material, const CubicLatticeOptions& options) {

@@ -179,7 +179,7 @@ Model BuildCubicLatticeInSolid(const Material& material, const SolidMesh& solid,
                                const MeshCubicLatticeOptions& options) {
   Validate(solid, options);
   return BuildNodeCentredModel(material, OccupiedCellsOf(solid, options), options.surface,
-                               options.lattice.spring_law);
+                               options.lattice.spring_law, options.lattice.power_law);
 }
 
 }  // namespace msm_sim::core

@@ -245,14 +245,15 @@ void ValidateAnchoredPlanes(const std::vector<AnchoredPlane>& anchored) {
 }
 
 Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells,
-                            const NodeCentredSurfaceOptions& surface, SpringLaw spring_law) {
+                            const NodeCentredSurfaceOptions& surface, SpringLaw spring_law,
+                            const PowerSpringLaw& power_law) {
   const double a = cells.frame.unit;
   const double kappa = material.shear_modulus() * a;
   const double cell_mass = material.density() * a * a * a;
   const double q = DispersionFraction(material.poisson_ratio());
   LatticeIndex index(cells.lo, cells.hi);
   ModelBuilder builder(material);
-  builder.SetSpringLaw(spring_law);
+  builder.SetSpringLaw(spring_law, power_law);
   builder.SetDispersionFraction(q);
   const double occupied = AddCellNodes(cells, cell_mass, &index, &builder);
   EndShares shares;

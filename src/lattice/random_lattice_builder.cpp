@@ -189,7 +189,7 @@ Model BuildInRegion(const Material& material, const RandomLatticeOptions& option
   }
   const double q = calibration.dispersion_fraction;
   ModelBuilder builder(material);
-  builder.SetSpringLaw(options.lattice.spring_law);
+  builder.SetSpringLaw(options.lattice.spring_law, options.lattice.power_law);
   builder.SetDispersionFraction(q);
   // A measured correction knows what it was measured for; the model keeps it.
   if (calibration.measurements > 0) builder.SetSelfCalibration(calibration);

@@ -10,6 +10,8 @@
 #include "compression_helpers.h"
 #include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/geometry/mesh_primitives.h"
+#include "msm_sim/lattice/baudet_lattice_builder.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/lattice/mesh_lattice_builder.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 
@@ -135,6 +137,33 @@ TEST(MeshModels, SpringLawReachesMeshBuiltModels) {
   const Model random_model = BuildRandomLatticeInSolid(material, sphere, random);
   EXPECT_EQ(random_model.spring_law(), SpringLaw::kNonlinear);
   EXPECT_GT(random_model.dispersion_fraction(), 0.0);
+}
+
+// The fitted law's alpha and beta reach the model from the lattice options, for every builder.
+TEST(MeshModels, PowerLawParametersReachEveryBuilder) {
+  const SolidMesh sphere(MakeIcosphereMesh(1.0, 3));
+  const Material material = Material::FromYoungsPoisson(1e5, 0.45, 1000.0);
+  LatticeOptions lattice;
+  lattice.spacing = 0.25;
+  lattice.spring_law = SpringLaw::kPower;
+  lattice.power_law = PowerSpringLaw{-2.5, 0.125};
+  const auto expect_law = [](const Model& model, const char* builder) {
+    EXPECT_EQ(model.spring_law(), SpringLaw::kPower) << builder;
+    EXPECT_EQ(model.power_spring_law().alpha, -2.5) << builder;
+    EXPECT_EQ(model.power_spring_law().beta, 0.125) << builder;
+  };
+  MeshCubicLatticeOptions in_solid;
+  in_solid.lattice = lattice;
+  expect_law(BuildCubicLatticeInSolid(material, sphere, in_solid), "cubic in a solid");
+  RandomLatticeOptions random;
+  random.lattice = lattice;
+  expect_law(BuildRandomLatticeInSolid(material, sphere, random), "random in a solid");
+  CubicLatticeOptions box;
+  box.lattice = lattice;
+  expect_law(BuildCubicLattice(material, box), "cubic box");
+  BaudetLatticeOptions baudet;
+  baudet.lattice = lattice;
+  expect_law(BuildBaudetLattice(material, baudet), "Baudet");
 }
 
 // No spring of a random model bridges the notch of a concave body: a torus's hole.

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "msm_sim/material/power_spring_law.h"
 #include "msm_sim/material/spring_law.h"
 
 namespace msm_sim::core {
@@ -19,6 +20,8 @@ struct LatticeOptions {
   /// count is then N = V / l^3).
   double spacing = 0.1;
   SpringLaw spring_law = SpringLaw::kLinear;
+  /// The law's alpha and beta when spring_law is kPower (docs/physics.md §4.1); else unread.
+  PowerSpringLaw power_law;
   /// Refuse to build more nodes than this: protects against absurd spacings (a static solve needs
   /// several kB per node).
   int max_nodes = 2'000'000;
