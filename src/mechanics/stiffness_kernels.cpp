@@ -18,25 +18,10 @@ namespace {
 // locals it did not, and the loops stayed scalar). Arrays start at the run's first spring and
 // its a0 node, so node a0 + offset + i is element offset + i.
 
-inline __attribute__((always_inline)) void LinearizePlainRun(
-    int n, int d, const double* __restrict px, const double* __restrict py,
-    const double* __restrict pz, const double* __restrict k, const double* __restrict rest,
-    bool drop_compression, double* __restrict total, double* __restrict ux, double* __restrict uy,
-    double* __restrict uz, double* __restrict geometric) {
-  for (int i = 0; i < n; ++i) {
-    const double rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-    const double length = internal::SpringLength(rx, ry, rz);
-    const double inverse_length = 1.0 / length;
-    const double t = internal::ElasticTension(k[i], length, rest[i]);
-    total[i] = t;
-    ux[i] = rx * inverse_length;
-    uy[i] = ry * inverse_length;
-    uz[i] = rz * inverse_length;
-    geometric[i] = (drop_compression ? std::max(t, 0.0) : t) * inverse_length;
-  }
-}
-
-inline __attribute__((always_inline)) void LinearizeDispersedRun(
+// One run's total tensions and linearisation: k (L - L0), plus o_a g_a + o_b g_b when Dispersed
+// (g per node from a0), as PlainRuns / OutflowRuns sum it (SpringForcesAlongRun).
+template <bool Dispersed>
+inline __attribute__((always_inline)) void LinearizeRun(
     int n, int d, const double* __restrict px, const double* __restrict py,
     const double* __restrict pz, const double* __restrict k, const double* __restrict rest,
     const double* __restrict out_a, const double* __restrict out_b, const double* __restrict g,
@@ -46,14 +31,31 @@ inline __attribute__((always_inline)) void LinearizeDispersedRun(
     const double rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
     const double length = internal::SpringLength(rx, ry, rz);
     const double inverse_length = 1.0 / length;
-    // As OutflowRuns sums it (SpringForcesAlongRun).
-    const double tension = internal::ElasticTension(k[i], length, rest[i]) +
-                           internal::DispersedTension(out_a[i], g[i], out_b[i], g[i + d]);
-    total[i] = tension;
+    double t = internal::ElasticTension(k[i], length, rest[i]);
+    if constexpr (Dispersed) t += internal::DispersedTension(out_a[i], g[i], out_b[i], g[i + d]);
+    total[i] = t;
     ux[i] = rx * inverse_length;
     uy[i] = ry * inverse_length;
     uz[i] = rz * inverse_length;
-    geometric[i] = (drop_compression ? std::max(tension, 0.0) : tension) * inverse_length;
+    geometric[i] = (drop_compression ? std::max(t, 0.0) : t) * inverse_length;
+  }
+}
+
+// LinearizeRun over runs [run_begin, run_end); `g` is read only when Dispersed.
+template <bool Dispersed>
+inline __attribute__((always_inline)) void LinearizeRunsOf(
+    const ScheduledSprings& springs, int run_begin, int run_end, int num_springs,
+    const NodeArrays& positions, const double* g, bool drop_compression, double* total_tensions,
+    double* storage) {
+  for (int r = run_begin; r < run_end; ++r) {
+    const SpringRun& run = springs.runs[r];
+    const int a0 = run.a0, f = run.first;
+    double* ux = storage + f;
+    LinearizeRun<Dispersed>(
+        run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
+        springs.stiffness + f, springs.rest + f, Dispersed ? springs.outflow_a + f : nullptr,
+        Dispersed ? springs.outflow_b + f : nullptr, Dispersed ? g + a0 : nullptr, drop_compression,
+        total_tensions + f, ux, ux + num_springs, ux + 2 * num_springs, ux + 3 * num_springs);
   }
 }
 
@@ -63,14 +65,8 @@ MSM_SIM_SIMD_CLONES
 void LinearizePlainRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                         int num_springs, const NodeArrays& positions, bool drop_compression,
                         double* total_tensions, double* storage) {
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = springs.runs[r];
-    const int a0 = run.a0, f = run.first;
-    double* ux = storage + f;
-    LinearizePlainRun(run.count, run.offset, positions.x + a0, positions.y + a0, positions.z + a0,
-                      springs.stiffness + f, springs.rest + f, drop_compression, total_tensions + f,
-                      ux, ux + num_springs, ux + 2 * num_springs, ux + 3 * num_springs);
-  }
+  LinearizeRunsOf<false>(springs, run_begin, run_end, num_springs, positions, nullptr,
+                         drop_compression, total_tensions, storage);
 }
 
 MSM_SIM_SIMD_CLONES
@@ -78,16 +74,8 @@ void LinearizeDispersedRuns(const ScheduledSprings& springs, int run_begin, int 
                             int num_springs, const NodeArrays& positions,
                             const double* dispersion_per_weight, bool drop_compression,
                             double* total_tensions, double* storage) {
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = springs.runs[r];
-    const int a0 = run.a0, f = run.first;
-    double* ux = storage + f;
-    LinearizeDispersedRun(run.count, run.offset, positions.x + a0, positions.y + a0,
-                          positions.z + a0, springs.stiffness + f, springs.rest + f,
-                          springs.outflow_a + f, springs.outflow_b + f, dispersion_per_weight + a0,
-                          drop_compression, total_tensions + f, ux, ux + num_springs,
-                          ux + 2 * num_springs, ux + 3 * num_springs);
-  }
+  LinearizeRunsOf<true>(springs, run_begin, run_end, num_springs, positions, dispersion_per_weight,
+                        drop_compression, total_tensions, storage);
 }
 
 namespace {
