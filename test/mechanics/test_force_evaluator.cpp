@@ -92,17 +92,16 @@ TEST(ForceEvaluator, LinearSpringObeysHookesLaw) {
 TEST(ForceEvaluator, NonlinearSpringMatchesTheCarrierLaw) {
   const double k = 50.0, l0 = 2.0;
   for (const double l : {0.1, 1.0, 1.9, 2.0, 2.5, 6.0}) {
-    EXPECT_NEAR(SpringTension<SpringLaw::kNonlinear>(k, l0, l), k * l0 * (l - l0) / l, 1e-12);
+    EXPECT_NEAR(CarrierSpringLaw::Tension(k, l0, l), k * l0 * (l - l0) / l, 1e-12);
     const double h = 1e-6;
-    EXPECT_NEAR((SpringEnergy<SpringLaw::kNonlinear>(k, l0, l + h) -
-                 SpringEnergy<SpringLaw::kNonlinear>(k, l0, l - h)) /
-                    (2 * h),
-                SpringTension<SpringLaw::kNonlinear>(k, l0, l), 1e-5);
+    EXPECT_NEAR(
+        (CarrierSpringLaw::Energy(k, l0, l + h) - CarrierSpringLaw::Energy(k, l0, l - h)) / (2 * h),
+        CarrierSpringLaw::Tension(k, l0, l), 1e-5);
   }
   // Same small-strain stiffness as the linear law; unbounded compressive force as L -> 0.
-  EXPECT_DOUBLE_EQ(SpringTangentStiffness<SpringLaw::kNonlinear>(k, l0, l0), k);
-  EXPECT_LT(SpringTension<SpringLaw::kNonlinear>(k, l0, 1e-6), -1e6);
-  EXPECT_GT(SpringTension<SpringLaw::kLinear>(k, l0, 1e-6), -k * l0 - 1e-9);
+  EXPECT_DOUBLE_EQ(CarrierSpringLaw::TangentStiffness(k, l0, l0), k);
+  EXPECT_LT(CarrierSpringLaw::Tension(k, l0, 1e-6), -1e6);
+  EXPECT_GT(LinearSpringLaw::Tension(k, l0, 1e-6), -k * l0 - 1e-9);
 }
 
 class ForceEvaluatorLaws : public ::testing::TestWithParam<SpringLaw> {};

@@ -42,37 +42,4 @@ struct CarrierSpringLaw {
   }
 };
 
-/// Tension (N, > 0 stretched) of a spring of stiffness k, rest length l0 and length l.
-template <SpringLaw Law>
-inline double SpringTension(double k, double l0, double l) {
-  static_assert(Law != SpringLaw::kPower, "the power law needs its parameters: PowerSpringLaw");
-  if constexpr (Law == SpringLaw::kLinear) {
-    return LinearSpringLaw::Tension(k, l0, l);
-  } else {
-    return CarrierSpringLaw::Tension(k, l0, l);
-  }
-}
-
-/// dt/dL (N/m).
-template <SpringLaw Law>
-inline double SpringTangentStiffness(double k, double l0, double l) {
-  static_assert(Law != SpringLaw::kPower, "the power law needs its parameters: PowerSpringLaw");
-  if constexpr (Law == SpringLaw::kLinear) {
-    return LinearSpringLaw::TangentStiffness(k, l0, l);
-  } else {
-    return CarrierSpringLaw::TangentStiffness(k, l0, l);
-  }
-}
-
-/// Stored energy (J).
-template <SpringLaw Law>
-inline double SpringEnergy(double k, double l0, double l) {
-  static_assert(Law != SpringLaw::kPower, "the power law needs its parameters: PowerSpringLaw");
-  if constexpr (Law == SpringLaw::kLinear) {
-    return LinearSpringLaw::Energy(k, l0, l);
-  } else {
-    return CarrierSpringLaw::Energy(k, l0, l);
-  }
-}
-
 }  // namespace msm_sim::core
