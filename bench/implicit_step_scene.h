@@ -203,15 +203,11 @@ inline void CensusSolves(internal::Body& body, const Eigen::Matrix3Xd& b, double
                          KickCensus* census, CensusEnd* end) {
   using internal::ImplicitIntegrator;
   const Eigen::Matrix3Xd& v = body.state.velocities;
-  const Eigen::VectorXd& m = body.model->masses();
   Eigen::Matrix3Xd stiffness_product(3, body.model->num_nodes());
   const NodeArrayOperator apply = SystemOperator(body, c, &stiffness_product);
   DofProjection projection;
-  MaskedPcgOptions solver;
-  solver.relative_tolerance = options.implicit_tolerance;
-  solver.max_iterations = options.implicit_max_iterations;
-  solver.reference_norm =
-      h * options.gravity.norm() * FreeDofs(body).row(0).cwiseProduct(m.transpose()).norm();
+  const MaskedPcgOptions solver =
+      ImplicitIntegrator::SolverOptions(options, body, h, FreeDofs(body));
   Eigen::Matrix3Xd& dv = body.implicit_dv;
   for (int pass = 0; pass < kContactSolvesAtMost; ++pass) {
     auto start = Clock::now();

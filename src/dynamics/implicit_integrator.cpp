@@ -106,6 +106,28 @@ int ImplicitIntegrator::Kick(Body* body, double h, double t0) {
   return iterations;
 }
 
+MaskedPcgOptions ImplicitIntegrator::SolverOptions(const WorldOptions& options, const Body& body,
+                                                   double h, const Eigen::Matrix3Xd& free) {
+  const Eigen::VectorXd& m = body.model->masses();
+  MaskedPcgOptions solver;
+  solver.relative_tolerance = options.implicit_tolerance;
+  solver.max_iterations = options.implicit_max_iterations;
+  solver.reference_norm =
+      h * options.gravity.norm() * free.row(0).cwiseProduct(m.transpose()).norm();
+  if (options.implicit_energy_tolerance > 0.0) {
+    solver.early_relative_tolerance = options.implicit_early_tolerance;
+    // |dKE| <= |v + dv|_M |A^-1 r|_M <= |v + dv|_M |r|_(M^-1), since A = M + c K >= M.
+    const double bound = options.implicit_energy_tolerance;
+    const Eigen::Matrix3Xd& v = body.state.velocities;
+    solver.accept_early = [&m, &v, bound](const Eigen::Matrix3Xd& dv, const Eigen::Matrix3Xd& r) {
+      const double residual = (r.colwise().squaredNorm() * m.cwiseInverse()).value();
+      const double momentum = ((v + dv).colwise().squaredNorm() * m).value();
+      return residual <= bound * bound * momentum;
+    };
+  }
+  return solver;
+}
+
 int ImplicitIntegrator::SolveKick(Body* body, double h, double t0, double c,
                                   std::vector<ContactNormal>* held,
                                   std::vector<ContactNormal>* speculative,
@@ -124,11 +146,7 @@ int ImplicitIntegrator::SolveKick(Body* body, double h, double t0, double c,
     *out = c * stiffness_product;
     *out += x * m.asDiagonal();
   };
-  MaskedPcgOptions solver;
-  solver.relative_tolerance = world_.options.implicit_tolerance;
-  solver.max_iterations = world_.options.implicit_max_iterations;
-  solver.reference_norm =
-      h * world_.options.gravity.norm() * projection.free.row(0).cwiseProduct(m.transpose()).norm();
+  const MaskedPcgOptions solver = SolverOptions(world_.options, *body, h, projection.free);
   const Eigen::Matrix3Xd inverse_diagonal = InverseSystemDiagonal(body->evaluator, m, c);
   // The elastic force at the substep's end position x' = x_mid + h/2 (v + dv), to first order:
   // F(x_mid) - K h/2 (v + dv). Its h/2 K dv part is c's h^2/2; the known h/2 K v part goes to

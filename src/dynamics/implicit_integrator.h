@@ -75,6 +75,13 @@ class ImplicitIntegrator {
   void RespondToHeldContacts(Body* body, const std::vector<ContactNormal>& held,
                              const Eigen::Matrix3Xd& residual);
 
+  /// The kick's conjugate-gradient options for a substep h of a body whose free DOFs are `free`
+  /// (WorldOptions' tolerances; the early stop bounds the change the residual impulse r can make
+  /// to the kinetic energy after the kick: |r|_(M^-1) <= implicit_energy_tolerance |v + dv|_M,
+  /// docs/physics.md §7.1). The options refer to *body's masses and velocities, which must
+  /// outlive them and not change while they are in use.
+  static MaskedPcgOptions SolverOptions(const WorldOptions& options, const Body& body, double h,
+                                        const Eigen::Matrix3Xd& free);
   /// Moves from *speculative to *held the contacts whose node, at velocity v + dv, approaches
   /// its collider faster than its holding speed; returns whether there was any.
   static bool HoldReachingContacts(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,

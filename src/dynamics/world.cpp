@@ -39,6 +39,11 @@ World::World(const WorldOptions& options)
           "implicit max substep must be finite and > 0");
   Require(options.implicit_tolerance > 0.0 && options.implicit_tolerance < 1.0,
           "implicit tolerance must lie in (0, 1)");
+  Require(options.implicit_early_tolerance >= options.implicit_tolerance &&
+              options.implicit_early_tolerance < 1.0,
+          "implicit early tolerance must lie in [implicit tolerance, 1)");
+  Require(options.implicit_energy_tolerance >= 0.0 && options.implicit_energy_tolerance < 1.0,
+          "implicit energy tolerance must lie in [0, 1)");
   Require(options.implicit_max_iterations >= 1, "implicit max iterations must be >= 1");
   Require(options.threads >= 1, "threads must be >= 1");
   Require(options.penetration_recovery_time > 0.0 && Finite(options.penetration_recovery_time),

@@ -132,6 +132,7 @@ class Grasp {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     result_.simulated_time = world_.time();
     result_.real_time_factor = seconds > 0.0 ? world_.time() / seconds : 0.0;
+    result_.solver_iterations = steps_taken_ > 0 ? double(solver_iterations_) / steps_taken_ : 0.0;
     result_.held =
         result_.rise >= options_.held_rise * options_.lift && result_.slip <= options_.held_slip;
     return result_;
@@ -143,6 +144,7 @@ class Grasp {
     world.gravity = Eigen::Vector3d(0.0, 0.0, -options.gravity);
     world.integrator = options.integrator;
     world.implicit_max_substep = options.step;
+    world.implicit_energy_tolerance = options.implicit_energy_tolerance;
     return world;
   }
 
@@ -200,6 +202,8 @@ class Grasp {
   void StepOnce() {
     const StepReport report = world_.Step(options_.step);
     if (!report.accepted) throw std::runtime_error("grasp: " + report.reason);
+    solver_iterations_ += report.solver_iterations;
+    ++steps_taken_;
     const State& state = world_.state(body_);
     result_.max_node_speed =
         std::max(result_.max_node_speed, state.velocities.colwise().norm().maxCoeff());
@@ -278,6 +282,8 @@ class Grasp {
   double pad_start_ = 0.0;
   double body_start_ = 0.0;
   GraspExperimentResult result_;
+  long solver_iterations_ = 0;  // over every step so far
+  long steps_taken_ = 0;
 };
 
 }  // namespace

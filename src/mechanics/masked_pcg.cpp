@@ -62,7 +62,15 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
   precondition(r, &z);
   Eigen::Matrix3Xd p = z;
   double rz = Dot(r, z);
-  while (r_norm > threshold && report.iterations < options.max_iterations) {
+  const double early_threshold = options.early_relative_tolerance * reference;
+  bool accepted_early = false;
+  const auto done = [&] {
+    if (r_norm <= threshold) return true;
+    accepted_early =
+        options.accept_early && r_norm <= early_threshold && options.accept_early(*x, r);
+    return accepted_early;
+  };
+  while (!done() && report.iterations < options.max_iterations) {
     apply(p, &product);  // p is in the range of S, so S A p is A restricted to it
     const double curvature = Dot(p, product);
     if (!(curvature > 0.0)) break;  // A not positive along p (or not finite): give up
@@ -80,7 +88,7 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
     p = z + (rz_next / rz) * p;
     rz = rz_next;
   }
-  report.converged = r_norm <= threshold;
+  report.converged = r_norm <= threshold || accepted_early;
   report.relative_residual = reference > 0.0 ? r_norm / reference : 0.0;
   return report;
 }

@@ -18,12 +18,19 @@ struct MaskedPcgOptions {
   /// The reference is the largest of |b_free|, the initial |r_free| and this (>= 0): a floor for
   /// systems whose right-hand side can vanish (a body at rest).
   double reference_norm = 0.0;
+  /// The solve also stops once |r_free| <= early_relative_tolerance times the reference
+  /// (>= relative_tolerance; 0 never) and accept_early(x, r_free) holds: a caller's own
+  /// criterion of a solution good enough, checked only there. Empty: never.
+  double early_relative_tolerance = 0.0;
+  std::function<bool(const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& r_free)> accept_early;
 };
 
 struct MaskedPcgReport {
   int iterations = 0;  ///< one product with A each
   double relative_residual = 0.0;
-  bool converged = false;  ///< false: max_iterations reached, or A was not positive on a direction
+  /// false: max_iterations reached, or A was not positive on a direction (true when stopped
+  /// early by accept_early).
+  bool converged = false;
 };
 
 /// The DOFs a solve may change, as a projection S applied node by node: element-wise by `free`

@@ -97,5 +97,52 @@ TEST(MaskedPcg, StopsAtMaxIterationsUnconverged) {
   EXPECT_GT(report.relative_residual, 1e-14);
 }
 
+// The early stop: taken at the first iteration whose residual is within the early tolerance and
+// that the caller accepts, never before; a caller that accepts nothing gets the full solve.
+TEST(MaskedPcg, EarlyStopNeedsBothTheEarlyToleranceAndTheCallersAcceptance) {
+  // A chain of 30 nodes (90 DOFs, tridiagonal 2.01 / -1): many iterations between 1e-2 and 1e-12.
+  const int nodes = 30;
+  Eigen::MatrixXd a = 2.01 * Eigen::MatrixXd::Identity(3 * nodes, 3 * nodes);
+  for (int k = 0; k + 1 < 3 * nodes; ++k) a(k, k + 1) = a(k + 1, k) = -1.0;
+  const Eigen::Matrix3Xd b = Eigen::Matrix3Xd::Ones(3, nodes);
+  const Eigen::Matrix3Xd ones = Eigen::Matrix3Xd::Ones(3, nodes);
+  const auto solve = [&](const MaskedPcgOptions& options, std::vector<double>* seen) {
+    MaskedPcgOptions counted = options;
+    if (options.accept_early) {
+      counted.accept_early = [&](const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& r) {
+        seen->push_back(r.norm() / b.norm());
+        return options.accept_early(x, r);
+      };
+    }
+    Eigen::Matrix3Xd x = Eigen::Matrix3Xd::Zero(3, nodes), residual;
+    const MaskedPcgReport report =
+        SolveMaskedPcg(DenseOperator(a), b, ones, ones, counted, &x, &residual);
+    return report;
+  };
+  MaskedPcgOptions tight;
+  tight.relative_tolerance = 1e-12;
+  tight.max_iterations = 500;
+  std::vector<double> seen;
+  const MaskedPcgReport full = solve(tight, &seen);
+  ASSERT_TRUE(full.converged);
+
+  MaskedPcgOptions early = tight;
+  early.early_relative_tolerance = 1e-2;
+  early.accept_early = [](const Eigen::Matrix3Xd&, const Eigen::Matrix3Xd&) { return true; };
+  const MaskedPcgReport stopped = solve(early, &seen);
+  EXPECT_TRUE(stopped.converged);
+  EXPECT_LT(stopped.iterations, full.iterations);
+  EXPECT_LE(stopped.relative_residual, 1e-2);
+  ASSERT_EQ(seen.size(), 1u);  // asked once: at the first residual within the early tolerance
+  EXPECT_LE(seen[0], 1e-2);
+
+  seen.clear();
+  early.accept_early = [](const Eigen::Matrix3Xd&, const Eigen::Matrix3Xd&) { return false; };
+  const MaskedPcgReport refused = solve(early, &seen);
+  EXPECT_EQ(refused.iterations, full.iterations);
+  EXPECT_LE(refused.relative_residual, 1e-12);
+  for (const double residual : seen) EXPECT_LE(residual, 1e-2);
+}
+
 }  // namespace
 }  // namespace msm_sim::core

@@ -58,6 +58,12 @@ struct WorldOptions {
   /// nodes is this fraction, in (0, 1), of the larger of h |F| and the gravity impulse h M |g|
   /// (a body at rest has F ~ 0; relative to it alone every solve would chase round-off) ...
   double implicit_tolerance = 1e-4;
+  /// ... or, earlier, once the residual is at most this fraction of the same reference (in
+  /// [implicit_tolerance, 1)) and its impulse r can change the kinetic energy after the kick
+  /// by at most 2 implicit_energy_tolerance of it: |r|_(M^-1) <= implicit_energy_tolerance
+  /// |v + dv|_M (docs/physics.md §7.1, "Stopping the solve") ...
+  double implicit_early_tolerance = 3e-3;
+  double implicit_energy_tolerance = 1e-3;  ///< in [0, 1); 0 turns the early stop off
   /// ... or after this many iterations (>= 1), whichever comes first.
   int implicit_max_iterations = 200;
   /// Implicit only: the solve's preconditioner (ImplicitPreconditioner).

@@ -41,6 +41,8 @@ struct GraspExperimentOptions {
   double held_slip = 1e-3;
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
+  /// WorldOptions::implicit_energy_tolerance, in [0, 1) (0: the implicit solve's early stop off).
+  double implicit_energy_tolerance = 1e-3;
 };
 
 struct GraspExperimentResult {
@@ -51,10 +53,11 @@ struct GraspExperimentResult {
   double rise = 0.0;           ///< m, the centroid's rise at the end (from the start of the lift)
   double slip = 0.0;           ///< m, the largest lag of the centroid behind the pads' rise
   bool held = false;
-  double max_node_speed = 0.0;    ///< m/s, over every step
-  double energy_max = 0.0;        ///< J, the largest kinetic plus elastic energy at a step's end
-  double real_time_factor = 0.0;  ///< simulated seconds per wall-clock second of stepping
-  double simulated_time = 0.0;    ///< s
+  double max_node_speed = 0.0;     ///< m/s, over every step
+  double energy_max = 0.0;         ///< J, the largest kinetic plus elastic energy at a step's end
+  double real_time_factor = 0.0;   ///< simulated seconds per wall-clock second of stepping
+  double simulated_time = 0.0;     ///< s
+  double solver_iterations = 0.0;  ///< implicit: conjugate-gradient iterations per step
 };
 
 /// Runs the experiment on `model` (any frame: it is placed on the ground as built). Throws
