@@ -13,6 +13,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/model/model_builder.cpp
   ${MSM_SIM_DIR}/src/model/model_file.cpp
   ${MSM_SIM_DIR}/src/model/model_file_self_calibration.cpp
+  ${MSM_SIM_DIR}/src/model/model_file_spring_law.cpp
   ${MSM_SIM_DIR}/src/model/model_statistics.cpp
   ${MSM_SIM_DIR}/src/model/model_transform.cpp
   ${MSM_SIM_DIR}/src/model/node_selection.cpp

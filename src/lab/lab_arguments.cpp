@@ -134,9 +134,15 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
                    "in (0, 1], the rest moved one layer in (a longer stable step near nu = 0.5)")
       ->capture_default_str()
       ->check(ShareInZeroToOne());
-  command->add_option("--spring", model->spring, "spring tension law: linear | nonlinear")
+  command
+      ->add_option("--spring", model->spring,
+                   "spring tension law: linear | nonlinear | power (with --alpha and --beta)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"linear", "nonlinear"}));
+      ->check(CLI::IsMember({"linear", "nonlinear", "power"}));
+  command->add_option("--alpha", model->alpha,
+                      "--spring power: the law's alpha (docs/physics.md 4.1; fit --tensile)");
+  command->add_option("--beta", model->beta,
+                      "--spring power: the law's beta >= 0 (docs/physics.md 4.1; fit --tensile)");
   command
       ->add_option("--dispersion", model->dispersion,
                    "eMSM dispersion: two-pass (exact) | one-pass (lagged accumulators)")

@@ -27,8 +27,10 @@ struct ModelArguments {
   double max_dist = 1.9;                     ///< random only, multiple of l
   std::string stiffness = "inverse-square";  ///< random only: uniform | inverse-square
   bool self_calibrate = false;               ///< random only: docs/physics.md §2.2
-  std::string spring = "linear";             ///< linear | nonlinear
-  std::string dispersion = "two-pass";       ///< two-pass | one-pass
+  std::string spring = "linear";             ///< linear | nonlinear | power
+  /// --spring power: the law's alpha and beta (docs/physics.md §4.1), both required then.
+  std::optional<double> alpha, beta;
+  std::string dispersion = "two-pass";  ///< two-pass | one-pass
   std::string mesh;                 ///< closed mesh file filling the body instead of the --size box
   double scale = 1.0;               ///< mesh coordinates times this are metres
   bool antialias = true;            ///< mesh + cubic: docs/physics.md §5 anti-aliasing

@@ -76,6 +76,10 @@ int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostrea
               {"poisson_stress_corrected", result.poisson_stress_corrected},
               {"axial_force", result.axial_force},
               {"strain", arguments.strain}};
+    if (arguments.model.alpha && arguments.model.beta) {
+      json["alpha"] = *arguments.model.alpha;  // the power law's, docs/physics.md §4.1
+      json["beta"] = *arguments.model.beta;
+    }
     json.update(ModelJson(run.stats));
     json["solver"] = SolverJson(result.solver);
     json["seconds"] = seconds;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "msm_sim/geometry/mesh_import.h"
@@ -30,13 +31,39 @@ LabBody LoadLabBody(const ModelArguments& arguments, bool move_to_origin) {
   return body;
 }
 
+namespace {
+
+// --spring, and for power its --alpha and --beta (docs/physics.md §4.1), which apply to it only.
+void SetSpringLaw(const ModelArguments& arguments, core::LatticeOptions* lattice) {
+  if (!core::ParseSpringLaw(arguments.spring, &lattice->spring_law)) {
+    throw std::invalid_argument("unknown spring law '" + arguments.spring +
+                                "' (expected linear, nonlinear or power)");
+  }
+  const bool has_parameters = arguments.alpha || arguments.beta;
+  if (lattice->spring_law != core::SpringLaw::kPower) {
+    if (has_parameters) throw std::invalid_argument("--alpha and --beta apply to --spring power");
+    return;
+  }
+  if (!arguments.alpha || !arguments.beta) {
+    throw std::invalid_argument(
+        "--spring power needs --alpha and --beta (the law's parameters, docs/physics.md 4.1; "
+        "fit --tensile prints them)");
+  }
+  if (!std::isfinite(*arguments.alpha) || !std::isfinite(*arguments.beta) ||
+      !(*arguments.beta >= 0.0)) {
+    throw std::invalid_argument("--alpha must be finite and --beta finite and >= 0, got " +
+                                std::to_string(*arguments.alpha) + " and " +
+                                std::to_string(*arguments.beta));
+  }
+  lattice->power_law = core::PowerSpringLaw{*arguments.alpha, *arguments.beta};
+}
+
+}  // namespace
+
 core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body) {
   core::BodyRecipe recipe(
       core::Material::FromYoungsPoisson(arguments.youngs, arguments.poisson, arguments.density));
-  if (!core::ParseSpringLaw(arguments.spring, &recipe.lattice.spring_law)) {
-    throw std::invalid_argument("unknown spring law '" + arguments.spring +
-                                "' (expected linear or nonlinear)");
-  }
+  SetSpringLaw(arguments, &recipe.lattice);
   if (!core::ParseLatticeKind(arguments.model, &recipe.lattice_kind)) {
     throw std::invalid_argument("unknown model '" + arguments.model +
                                 "' (expected cubic, random or baudet)");

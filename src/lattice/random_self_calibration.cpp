@@ -87,6 +87,7 @@ SelfCalibrationConditions RandomSelfCalibrationConditions(const Material& materi
                                  ? SelfCalibrationConditions::kUniformStiffness
                                  : SelfCalibrationConditions::kInverseSquareStiffness;
   conditions.spring_law = options.lattice.spring_law;
+  if (conditions.spring_law == SpringLaw::kPower) conditions.power_law = options.lattice.power_law;
   conditions.isotropic_dispersion = options.isotropic_dispersion;
   conditions.block_cells = options.calibration_block_cells;
   conditions.seed = options.calibration_seed;

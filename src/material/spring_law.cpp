@@ -11,6 +11,10 @@ bool ParseSpringLaw(const std::string& name, SpringLaw* law) {
     *law = SpringLaw::kNonlinear;
     return true;
   }
+  if (name == "power") {
+    *law = SpringLaw::kPower;
+    return true;
+  }
   return false;
 }
 

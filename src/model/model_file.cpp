@@ -14,6 +14,7 @@
 #include "model/binary_file.h"
 #include "model/model_file_layout.h"
 #include "model/model_file_self_calibration.h"
+#include "model/model_file_spring_law.h"
 #include "msm_sim/model/model_builder.h"
 
 namespace msm_sim::core {
@@ -31,21 +32,11 @@ using binary_file::PutF64;
 using binary_file::PutU32;
 using model_file::CorrectionEdges;
 using model_file::CorrectionLayout;
-using model_file::kLinearLawCode;
 using model_file::kMaxCount;
 using model_file::kMinFileBytes;
-using model_file::kNonlinearLawCode;
 using model_file::NodeLayout;
 using model_file::SpringLayout;
 using H = model_file::HeaderLayout;
-
-// The format has no field for the power law's (alpha, beta) (docs/physics.md §4.1) yet: a
-// kPower model is refused rather than saved as another law.
-std::uint32_t SpringLawCode(SpringLaw law) {
-  if (law == SpringLaw::kLinear) return kLinearLawCode;
-  if (law == SpringLaw::kNonlinear) return kNonlinearLawCode;
-  throw std::runtime_error("SaveModel: power-law springs (alpha, beta) cannot be saved yet");
-}
 
 // Names the format in every error message: "model file '<path>': <problem>".
 constexpr char kFileKind[] = "model file";
@@ -74,7 +65,7 @@ void WriteHeader(const Model& model, AtomicFileWriter* out) {
   PutU32(static_cast<std::uint32_t>(model.num_nodes()), record + H::kNodeCount);
   PutU32(static_cast<std::uint32_t>(model.num_springs()), record + H::kSpringCount);
   PutU32(static_cast<std::uint32_t>(model.correction_edges().size()), record + H::kCorrectionCount);
-  PutU32(SpringLawCode(model.spring_law()), record + H::kSpringLaw);
+  PutU32(model_file::SpringLawCode(model.spring_law()), record + H::kSpringLaw);
   const Material& material = model.material();
   PutF64(material.youngs_modulus(), record + H::kYoungsModulus);
   PutF64(material.poisson_ratio(), record + H::kPoissonRatio);
@@ -145,6 +136,7 @@ std::uint64_t DescribedFileBytes(const Header& header) {
          std::uint64_t{model_file::NodeRecordBytes(header.version)} * header.nodes +
          std::uint64_t{SpringLayout::kBytes} * header.springs +
          std::uint64_t{CorrectionLayout::kBytes} * header.corrections +
+         model_file::SpringLawParametersBytes(header.version) +
          model_file::SelfCalibrationBlockBytes(header.version) + kChecksumBytes;
 }
 
@@ -204,18 +196,12 @@ void VerifyChecksum(HashingFileReader& file, const std::string& path) {
 
 // The header's model-wide values, validated.
 struct ModelProperties {
-  SpringLaw law;
+  SpringLaw law;  // its alpha and beta (kPower) come later in the file
   Material material;
   double dispersion_fraction;
   double volume;
   double characteristic_length;
 };
-
-SpringLaw SpringLawFromCode(std::uint32_t code, const std::string& path) {
-  if (code == kLinearLawCode) return SpringLaw::kLinear;
-  if (code == kNonlinearLawCode) return SpringLaw::kNonlinear;
-  Fail(path, "unknown spring law code " + std::to_string(code));
-}
 
 // Reads the header from the start of the file again, hashing it, and validates its values.
 ModelProperties ReadProperties(HashingFileReader& file, const Header& header,
@@ -231,7 +217,7 @@ ModelProperties ReadProperties(HashingFileReader& file, const Header& header,
   const double volume = GetF64(record + H::kVolume);
   const double characteristic_length = GetF64(record + H::kCharacteristicLength);
 
-  const SpringLaw law = SpringLawFromCode(header.law, path);
+  const SpringLaw law = model_file::SpringLawFromCode(header.law, header.version, path);
   Material material = [&] {
     try {
       return Material::FromYoungsPoisson(youngs, poisson, density);
@@ -369,6 +355,7 @@ void SaveModel(const Model& model, const std::string& path) {
   WriteNodes(model, &out);
   WriteSprings(model, &out);
   WriteCorrections(model, &out);
+  model_file::WriteSpringLawParameters(model, &out);
   model_file::WriteSelfCalibration(model, &out);
   out.Commit();
 }
@@ -382,14 +369,18 @@ Model LoadModel(const std::string& path) {
   // Then a second pass reads the values, hashing them again.
   const ModelProperties properties = ReadProperties(file, header, path);
   ModelBuilder builder(properties.material);
-  builder.SetSpringLaw(properties.law);
   builder.SetDispersionFraction(properties.dispersion_fraction);
   ReadNodes(file, header, path, &builder);
   const std::vector<double> stored_rest_length = ReadSprings(file, header, path, &builder);
   ReadCorrections(file, header, path, &builder);
+  const PowerSpringLaw power_law =
+      header.version >= model_file::kSpringLawParametersSinceVersion
+          ? model_file::ReadSpringLawParameters(file, properties.law, path)
+          : PowerSpringLaw{};
+  builder.SetSpringLaw(properties.law, power_law);  // validated as it requires: cannot throw
   if (header.version >= model_file::kSelfCalibrationSinceVersion) {
-    builder.SetSelfCalibration(
-        model_file::ReadSelfCalibration(file, properties.dispersion_fraction, path));
+    builder.SetSelfCalibration(model_file::ReadSelfCalibration(
+        file, header.version, properties.dispersion_fraction, {properties.law, power_law}, path));
   }
   VerifyUnchanged(file, path);
   return Assemble(builder, properties, stored_rest_length, path);

@@ -133,8 +133,4 @@ constexpr std::uint64_t kMinFileBytes = HeaderLayout::kBytes + NodeRecordBytes(1
 // Node and spring indices are int32 in Model, so no count may exceed this.
 constexpr std::uint32_t kMaxCount = static_cast<std::uint32_t>(std::numeric_limits<int>::max());
 
-// Spring-law codes are part of the file format: never renumber them.
-constexpr std::uint32_t kLinearLawCode = 0;
-constexpr std::uint32_t kNonlinearLawCode = 1;
-
 }  // namespace msm_sim::core::model_file

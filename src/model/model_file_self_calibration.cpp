@@ -1,4 +1,4 @@
-// The self-calibration block of model files (model_file.h, format version 2): what a random
+// The self-calibration block of model files (model_file.h, format version 2 on): what a random
 // lattice's correction was and what it was measured for (docs/physics.md §2.2), so that a loaded
 // model says how it was calibrated and is not measured again.
 
@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "model/model_file_layout.h"
+#include "model/model_file_spring_law.h"
 
 namespace msm_sim::core::model_file {
 namespace {
@@ -46,14 +47,21 @@ static_assert(Packed({{L::kPresent, kU32Bytes},
   binary_file::Fail("model file", path, "self-calibration block: " + problem);
 }
 
+// The file holds one (alpha, beta), the model's: conditions of another power law cannot be saved.
+void RequireTheModelsPowerLaw(const Conditions& conditions, const Model& model) {
+  if (conditions.spring_law != SpringLaw::kPower) return;
+  const PowerSpringLaw& law = model.power_spring_law();
+  if (model.spring_law() != SpringLaw::kPower || conditions.power_law.alpha != law.alpha ||
+      conditions.power_law.beta != law.beta) {
+    throw std::runtime_error(
+        "SaveModel: the self-calibration was measured with a power law other than the model's");
+  }
+}
+
 void PutConditions(const Conditions& conditions, unsigned char* record) {
   PutU32(conditions.lattice, record + L::kLattice);
   PutU32(conditions.stiffness_law, record + L::kStiffnessLaw);
-  if (conditions.spring_law == SpringLaw::kPower) {
-    throw std::runtime_error("SaveModel: a self-calibration for power-law springs cannot be saved");
-  }
-  PutU32(conditions.spring_law == SpringLaw::kLinear ? kLinearLawCode : kNonlinearLawCode,
-         record + L::kSpringLaw);
+  PutU32(SpringLawCode(conditions.spring_law), record + L::kSpringLaw);
   PutU32(conditions.isotropic_dispersion ? 1 : 0, record + L::kIsotropicDispersion);
   PutU32(static_cast<std::uint32_t>(conditions.block_cells), record + L::kBlockCells);
   PutU64(conditions.seed, record + L::kSeed);
@@ -63,8 +71,20 @@ void PutConditions(const Conditions& conditions, unsigned char* record) {
   PutF64(conditions.max_distance, record + L::kMaxDistance);
 }
 
+// The conditions' spring law: a power law only in a power-law model, with its alpha and beta.
+void GetSpringLaw(std::uint32_t code, std::uint32_t version, const ModelSpringLaw& model_law,
+                  const std::string& path, Conditions* conditions) {
+  conditions->spring_law = SpringLawFromCode(code, version, path, "self-calibration block: ");
+  if (conditions->spring_law != SpringLaw::kPower) return;
+  if (model_law.law != SpringLaw::kPower) {
+    Fail(path, "spring law code 2 (power) but the model's springs are not power-law");
+  }
+  conditions->power_law = model_law.power;
+}
+
 // The codes and flags, each one the format knows.
-Conditions GetCodes(const unsigned char* record, const std::string& path) {
+Conditions GetCodes(const unsigned char* record, std::uint32_t version,
+                    const ModelSpringLaw& model_law, const std::string& path) {
   Conditions conditions;
   conditions.lattice = GetU32(record + L::kLattice);
   conditions.stiffness_law = GetU32(record + L::kStiffnessLaw);
@@ -78,14 +98,11 @@ Conditions GetCodes(const unsigned char* record, const std::string& path) {
       conditions.stiffness_law != Conditions::kInverseSquareStiffness) {
     Fail(path, "unknown stiffness law code " + std::to_string(conditions.stiffness_law));
   }
-  if (law != kLinearLawCode && law != kNonlinearLawCode) {
-    Fail(path, "unknown spring law code " + std::to_string(law));
-  }
   if (isotropic > 1) Fail(path, "isotropic dispersion flag " + std::to_string(isotropic));
   if (cells < 1 || cells > static_cast<std::uint32_t>(std::numeric_limits<int>::max())) {
     Fail(path, "representative block of " + std::to_string(cells) + " cells");
   }
-  conditions.spring_law = law == kLinearLawCode ? SpringLaw::kLinear : SpringLaw::kNonlinear;
+  GetSpringLaw(law, version, model_law, path, &conditions);
   conditions.isotropic_dispersion = isotropic == 1;
   conditions.block_cells = static_cast<int>(cells);
   conditions.seed = GetU64(record + L::kSeed);
@@ -137,6 +154,7 @@ void GetValues(const unsigned char* record, double model_q, const std::string& p
 void WriteSelfCalibration(const Model& model, binary_file::AtomicFileWriter* out) {
   unsigned char record[L::kBytes] = {};
   if (const std::optional<SelfCalibration>& calibration = model.self_calibration()) {
+    RequireTheModelsPowerLaw(calibration->conditions, model);
     PutU32(1, record + L::kPresent);
     PutConditions(calibration->conditions, record);
     PutF64(calibration->stiffness_factor, record + L::kStiffnessFactor);
@@ -149,7 +167,9 @@ void WriteSelfCalibration(const Model& model, binary_file::AtomicFileWriter* out
 }
 
 std::optional<SelfCalibration> ReadSelfCalibration(binary_file::HashingFileReader& file,
+                                                   std::uint32_t version,
                                                    double model_dispersion_fraction,
+                                                   const ModelSpringLaw& model_law,
                                                    const std::string& path) {
   unsigned char record[L::kBytes];
   file.Read(record, sizeof record);
@@ -157,7 +177,7 @@ std::optional<SelfCalibration> ReadSelfCalibration(binary_file::HashingFileReade
   if (present == 0) return std::nullopt;
   if (present != 1) Fail(path, "presence flag " + std::to_string(present) + " (0 or 1)");
   SelfCalibration calibration;
-  calibration.conditions = GetCodes(record, path);
+  calibration.conditions = GetCodes(record, version, model_law, path);
   GetValues(record, model_dispersion_fraction, path, &calibration);
   const std::uint32_t measurements = GetU32(record + L::kMeasurements);
   if (measurements > 1000) Fail(path, std::to_string(measurements) + " measurements");

@@ -1,7 +1,8 @@
 #pragma once
 // Private to the model file code: the self-calibration block of format version 2 (model_file.h),
-// a fixed-size record after the correction elements that holds Model::self_calibration. Kept in
-// its own layout and functions, apart from the records of version 1.
+// a fixed-size record after the correction elements (and from version 3 the spring-law
+// parameters) that holds Model::self_calibration. Kept in its own layout and functions, apart
+// from the records of version 1.
 
 #include <cstddef>
 #include <cstdint>
@@ -9,6 +10,8 @@
 #include <string>
 
 #include "model/binary_file.h"
+#include "msm_sim/material/power_spring_law.h"
+#include "msm_sim/material/spring_law.h"
 #include "msm_sim/model/model.h"
 #include "msm_sim/model/self_calibration.h"
 
@@ -43,14 +46,26 @@ inline std::uint64_t SelfCalibrationBlockBytes(std::uint32_t version) {
   return version >= kSelfCalibrationSinceVersion ? SelfCalibrationLayout::kBytes : 0;
 }
 
-/// Appends the block for model.self_calibration() (absent: the flag and zeros).
+/// Appends the block for model.self_calibration() (absent: the flag and zeros). Conditions of the
+/// power law store its code only: their alpha and beta must be the model's, which the file holds
+/// (docs/physics.md §4.1); otherwise throws std::runtime_error.
 void WriteSelfCalibration(const Model& model, binary_file::AtomicFileWriter* out);
 
-/// Reads the block and validates it: flag 0 or 1, known codes, conditions in range (spacing > 0,
-/// nu in (-1, 1/2), 0 < minL < maxL, block cells >= 1), a positive finite stiffness factor and a
-/// dispersion fraction equal to the model's q. Throws std::runtime_error naming `path`.
+/// The model's spring law as its file gives it, which a power-law block's conditions take.
+struct ModelSpringLaw {
+  SpringLaw law = SpringLaw::kLinear;
+  PowerSpringLaw power;  ///< alpha and beta for kPower
+};
+
+/// Reads the block of a file of `version` and validates it: flag 0 or 1, known codes (power only
+/// in a power-law model, whose alpha and beta the conditions then take), conditions in range
+/// (spacing > 0, nu in (-1, 1/2), 0 < minL < maxL, block cells >= 1), a positive finite
+/// stiffness factor and a dispersion fraction equal to the model's q. Throws std::runtime_error
+/// naming `path`.
 std::optional<SelfCalibration> ReadSelfCalibration(binary_file::HashingFileReader& file,
+                                                   std::uint32_t version,
                                                    double model_dispersion_fraction,
+                                                   const ModelSpringLaw& model_law,
                                                    const std::string& path);
 
 }  // namespace msm_sim::core::model_file

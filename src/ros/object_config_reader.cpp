@@ -8,6 +8,7 @@
 
 #include "msm_sim/material/shore_hardness.h"
 #include "parameter_tree.h"
+#include "spring_law_reader.h"
 
 namespace msm_sim::ros_interface {
 namespace {
@@ -35,6 +36,7 @@ const std::set<std::string> kObjectKeys = {"name",
                                            "spacing",
                                            "target_nodes",
                                            "spring",
+                                           "tensile_law",
                                            "antialias",
                                            "free_face_bending",
                                            "surface_dispersion",
@@ -82,21 +84,25 @@ void ReadHardness(XmlRpcValue& object, const std::string& path, ObjectConfig* co
   }
 }
 
-void ReadMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path,
+// The ~materials entry the object's `material` names (none without the key).
+NamedMaterial FindMaterial(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path) {
+  if (!Has(object, "material")) return {};
+  const std::string name = Text(object, "material", "", path);
+  if (materials == nullptr || !Has(*materials, name)) {
+    Fail(path + "/material", "unknown material '" + name +
+                                 "' (load config/materials.yaml into ~materials, or give "
+                                 "youngs, poisson and density)");
+  }
+  return {&(*materials)[name], "~materials/" + name};
+}
+
+void ReadMaterial(XmlRpcValue& object, const NamedMaterial& material, const std::string& path,
                   ObjectConfig* config) {
   config->poisson = 0.25;
-  if (Has(object, "material")) {
-    const std::string name = Text(object, "material", "", path);
-    if (materials == nullptr || !Has(*materials, name)) {
-      Fail(path + "/material", "unknown material '" + name +
-                                   "' (load config/materials.yaml into ~materials, or give "
-                                   "youngs, poisson and density)");
-    }
-    XmlRpcValue& material = (*materials)[name];
-    const std::string material_path = "~materials/" + name;
-    config->youngs = Positive(material, "youngs", 0.0, material_path);
-    config->poisson = Number(material, "poisson", 0.25, material_path);
-    config->density = Positive(material, "density", 0.0, material_path);
+  if (material.entry != nullptr) {
+    config->youngs = Positive(*material.entry, "youngs", 0.0, material.path);
+    config->poisson = Number(*material.entry, "poisson", 0.25, material.path);
+    config->density = Positive(*material.entry, "density", 0.0, material.path);
   }
   // Explicit values override the named material.
   if (Has(object, "youngs")) config->youngs = Positive(object, "youngs", 0.0, path);
@@ -169,15 +175,6 @@ core::LatticeKind ReadLatticeKind(XmlRpcValue& object, core::LatticeKind fallbac
   return kind;
 }
 
-// The spring law, by the core's names.
-core::SpringLaw ReadSpringLaw(XmlRpcValue& object, const std::string& path) {
-  const std::string name = Text(object, "spring", "linear", path);
-  core::SpringLaw law = core::SpringLaw::kLinear;
-  if (!core::ParseSpringLaw(name, &law))
-    FailNotOneOf(name, {"linear", "nonlinear"}, path + "/spring");
-  return law;
-}
-
 Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (!Has(object, "pose")) return pose;
@@ -217,8 +214,9 @@ ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
   return config;
 }
 
-// The lattice keys: model, spacing or target_nodes, spring law, anti-aliasing, the free faces'
-// bending, the outer layer's dispersion, the random seed and self-calibration.
+// The lattice keys: model, spacing or target_nodes, anti-aliasing, the free faces' bending, the
+// outer layer's dispersion, the random seed and self-calibration (the spring law is read with
+// the material: ReadSpringLaw).
 void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
   config->model = ReadLatticeKind(object, config->model, path);
   if (config->model == core::LatticeKind::kBaudet &&
@@ -231,7 +229,6 @@ void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig*
   if ((config->lattice.spacing > 0.0) == (config->target_nodes > 0)) {
     Fail(path + "/spacing", "give exactly one of spacing (m) and target_nodes");
   }
-  config->lattice.spring_law = ReadSpringLaw(object, path);
   config->antialias = Flag(object, "antialias", true, path);
   config->surface.free_face_bending = Flag(object, "free_face_bending", false, path);
   if (config->surface.free_face_bending && config->model != core::LatticeKind::kCubic) {
@@ -303,7 +300,9 @@ ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::
   config.shape = ReadShape(object, path);
   config.pose = ReadPose(object, path);
   ReadLatticeKeys(object, path, &config);
-  ReadMaterial(object, materials, path, &config);
+  const NamedMaterial material = FindMaterial(object, materials, path);
+  ReadMaterial(object, material, path, &config);
+  ReadSpringLaw(object, material, path, &config.lattice);
   ReadDynamicsKeys(object, path, &config);
   ReadClampsAndVisual(object, path, &config);
   return config;

@@ -107,6 +107,13 @@ void Simulation::AddObject(std::size_t index) {
            object_config.name.c_str(), built.model->num_nodes(), built.model->num_springs(),
            built.model->masses().sum(), static_cast<int>(built.clamps.size()),
            world_.stable_time_step());
+  if (built.model->spring_law() == core::SpringLaw::kPower) {
+    ROS_INFO(
+        "msm_sim: object '%s' runs the fitted spring law (docs/physics.md 4.1): alpha %.6g, "
+        "beta %.6g",
+        object_config.name.c_str(), built.model->power_spring_law().alpha,
+        built.model->power_spring_law().beta);
+  }
   if (const auto& calibration = built.model->self_calibration()) {
     ROS_INFO("msm_sim: object '%s' self-calibrated (docs/physics.md 2.2): k x %.4f, q %.4g",
              object_config.name.c_str(), calibration->stiffness_factor,

@@ -56,8 +56,9 @@ struct ObjectConfig {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< object frame in the world
   core::LatticeKind model = core::LatticeKind::kCubic;     ///< YAML: cubic | random | baudet
   /// The builders' shared options, handed to the object's BodyRecipe as they are. YAML:
-  /// spacing (m; 0 with target_nodes > 0) and spring (linear | nonlinear); the node limit and the
-  /// rotation keep LatticeOptions's defaults.
+  /// spacing (m; 0 with target_nodes > 0), spring (linear | nonlinear | power) and the power
+  /// law's tensile_law {alpha, beta} on the object or its material (spring_law_reader.h); the node
+  /// limit and the rotation keep LatticeOptions's defaults.
   core::LatticeOptions lattice;
   int target_nodes = 0;  ///< choose the spacing for about this many nodes
   bool antialias = true;

@@ -1,6 +1,7 @@
 // Writes the fuzzers' seed corpora (`make fuzz`): the test cube in every mesh format the header
 // checks know (test/geometry/mesh_files.h), each prefixed with the byte that makes
-// mesh_import_fuzzer pick its extension, and a small model file from the package's own writer.
+// mesh_import_fuzzer pick its extension, and two small model files (linear and power-law springs)
+// from the package's own writer.
 // Usage: write_seed_corpus MESH_DIR MODEL_DIR
 #include <cstdio>
 #include <fstream>
@@ -32,10 +33,14 @@ int main(int argc, char** argv) {
   msm_sim::core::CubicLatticeOptions options;
   options.size = Eigen::Vector3d(0.2, 0.2, 0.2);
   options.lattice.spacing = 0.1;
-  msm_sim::core::SaveModel(
-      msm_sim::core::BuildCubicLattice(msm_sim::core::Material::FromYoungsPoisson(1e5, 0.3, 1000.0),
-                                       options),
-      std::string(argv[2]) + "/cube.msm");
-  std::printf("write_seed_corpus: %d mesh files, 1 model file\n", written);
+  const auto material = msm_sim::core::Material::FromYoungsPoisson(1e5, 0.3, 1000.0);
+  msm_sim::core::SaveModel(msm_sim::core::BuildCubicLattice(material, options),
+                           std::string(argv[2]) + "/cube.msm");
+  // The same cube with the power spring law, whose file holds its alpha and beta (format 3).
+  options.lattice.spring_law = msm_sim::core::SpringLaw::kPower;
+  options.lattice.power_law = msm_sim::core::PowerSpringLaw{-4.54, 0.116};
+  msm_sim::core::SaveModel(msm_sim::core::BuildCubicLattice(material, options),
+                           std::string(argv[2]) + "/cube_power.msm");
+  std::printf("write_seed_corpus: %d mesh files, 2 model files\n", written);
   return 0;
 }

@@ -18,17 +18,19 @@ constexpr double kRest = 0.01;
 constexpr double kStretched = 0.012;
 constexpr double kCompressed = 0.005;
 
-TEST(SpringLaw, ParsesBothNames) {
+TEST(SpringLaw, ParsesTheThreeNames) {
   SpringLaw law = SpringLaw::kNonlinear;
   ASSERT_TRUE(ParseSpringLaw("linear", &law));
   EXPECT_EQ(law, SpringLaw::kLinear);
   ASSERT_TRUE(ParseSpringLaw("nonlinear", &law));
   EXPECT_EQ(law, SpringLaw::kNonlinear);
+  ASSERT_TRUE(ParseSpringLaw("power", &law));
+  EXPECT_EQ(law, SpringLaw::kPower);
 }
 
 TEST(SpringLaw, RejectsOtherNames) {
-  for (const std::string name :
-       {"", "Linear", "NONLINEAR", "non-linear", " linear", "linear ", "carrier", "hooke"}) {
+  for (const std::string name : {"", "Linear", "NONLINEAR", "non-linear", " linear", "linear ",
+                                 "carrier", "hooke", "Power"}) {
     SpringLaw law = SpringLaw::kLinear;
     EXPECT_FALSE(ParseSpringLaw(name, &law)) << "'" << name << "'";
   }

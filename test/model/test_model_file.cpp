@@ -37,7 +37,7 @@ namespace {
 
 using Bytes = std::vector<unsigned char>;
 
-// Layout of format versions 1 and 2 (model_file.h), for crafting damaged files.
+// Layout of format versions 1 to 3 (model_file.h), for crafting damaged files.
 constexpr std::size_t kVersionOffset = 16;
 constexpr std::size_t kCountsOffset = 20;
 constexpr std::size_t kLawOffset = 32;
@@ -266,18 +266,6 @@ TEST_F(ModelFileTest, SaveReplacesAnExistingFileAndLeavesNoTemporaryFile) {
   EXPECT_EQ(files, 1);
 }
 
-TEST_F(ModelFileTest, SaveRefusesPowerLawSpringsAndWritesNothing) {
-  // The format has no field for (alpha, beta): a power-law model must not be saved as another law.
-  const Model model = WithSpringLaw(BaudetModel(0.1), SpringLaw::kPower, PowerSpringLaw{-2.0, 0.1});
-  try {
-    SaveModel(model, Path("power.msm"));
-    ADD_FAILURE() << "SaveModel wrote a power-law model";
-  } catch (const std::runtime_error& e) {
-    EXPECT_CONTAINS(std::string(e.what()), "power-law");
-  }
-  EXPECT_TRUE(std::filesystem::is_empty(dir_));
-}
-
 TEST_F(ModelFileTest, SaveToAnUnwritablePathThrows) {
   const Model model = BaudetModel(0.1);
   const std::string missing_dir = Path("no_such_dir/model.msm");
@@ -336,7 +324,7 @@ TEST_F(ModelFileTest, RejectsBadMagicAndOtherVersions) {
   PutU32(&newer, kVersionOffset, 7);
   Reseal(&newer);
   EXPECT_CONTAINS(LoadError(newer),
-                  "written by format version 7, this build reads versions 1 to 2");
+                  "written by format version 7, this build reads versions 1 to 3");
 }
 
 TEST_F(ModelFileTest, EveryTruncationThrows) {
@@ -389,7 +377,7 @@ TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
   EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset + 4, 0xffffffff); }),
                   "counts out of range");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset, 0); }), "no nodes");
-  EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kLawOffset, 2); }), "unknown spring law code 2");
+  EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kLawOffset, 3); }), "unknown spring law code 3");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kMaterialOffset + 8, 0.5); }),
                   "invalid material: Poisson's ratio");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kMaterialOffset + 24, -0.5); }),

@@ -23,10 +23,12 @@ namespace {
 
 using Bytes = std::vector<unsigned char>;
 
-// Offsets of format version 2 (model_file.h): the block is the last 100 bytes before the
-// checksum, the format version at byte 16.
+// Offsets of format versions 2 and 3 (model_file.h): the block is the last 100 bytes before the
+// checksum, version 3's 16 bytes of spring-law parameters before it, the format version at
+// byte 16.
 constexpr std::size_t kVersionOffset = 16;
 constexpr std::size_t kBlockBytes = 100;
+constexpr std::size_t kSpringLawParameterBytes = 16;
 constexpr std::size_t kChecksumBytes = 8;
 
 const Material kMaterial = Material::FromYoungsPoisson(2e5, 0.4, 1200.0);
@@ -135,13 +137,14 @@ TEST_F(SelfCalibrationFileTest, RoundTripsTheCorrectionAndItsConditions) {
   EXPECT_FALSE(LoadModel(Path("plain.msm")).self_calibration());
 }
 
-// Version 1 is version 2 without the block and the nodes' surface insets (the last 8 of each
-// 40-byte node record after the 84-byte header): such files still load, with no
-// self-calibration.
+// Version 1 is version 3 without the spring-law parameters, the block and the nodes' surface
+// insets (the last 8 of each 40-byte node record after the 84-byte header): such files still
+// load, with no self-calibration.
 TEST_F(SelfCalibrationFileTest, ReadsVersionOneFiles) {
   const Model model = CalibratedModel();
   Bytes bytes = Saved(model);
-  bytes.erase(bytes.end() - kChecksumBytes - kBlockBytes, bytes.end() - kChecksumBytes);
+  bytes.erase(bytes.end() - kChecksumBytes - kBlockBytes - kSpringLawParameterBytes,
+              bytes.end() - kChecksumBytes);
   constexpr std::size_t kHeaderBytes = 84, kNodeBytes = 40, kInsetOffset = 32;
   for (int i = model.num_nodes() - 1; i >= 0; --i) {
     const auto inset = bytes.begin() + kHeaderBytes + kNodeBytes * i + kInsetOffset;

@@ -141,6 +141,9 @@ std::vector<Scene> ObjectShapeScenes() {
   return {
       {{{"objects/0/model", "tetrahedral"}}, "~objects[0]/model"},
       {{{"objects/0/spring", "quadratic"}}, "~objects[0]/spring"},
+      {{{"objects/0/spring", "power"}}, "~objects[0]/spring"},
+      {{{"objects/0/tensile_law", "{alpha: -4.54}"}}, "~objects[0]/tensile_law/beta"},
+      {{{"objects/0/tensile_law", "{alpha: -4.54, beta: -0.1}"}}, "~objects[0]/tensile_law/beta"},
       {{{"objects/0/shape", ""}}, "~objects[0]/shape"},
       {{{"objects/0/shape/type", "torus"}}, "~objects[0]/shape/type"},
       {{{"objects/0/shape/size", "[0.12, -0.08, 0.05]"}}, "~objects[0]/shape/size"},

@@ -18,7 +18,8 @@ enum class SpringLaw {
   kPower,
 };
 
-/// Parses "linear" / "nonlinear"; returns false for anything else.
+/// Parses "linear" / "nonlinear" / "power"; returns false for anything else. kPower needs its
+/// (alpha, beta) from elsewhere (a scene's tensile_law, msm_lab --alpha / --beta).
 bool ParseSpringLaw(const std::string& name, SpringLaw* law);
 
 /// The laws as types with Tension (N, > 0 stretched), TangentStiffness (dt/dL, N/m) and Energy

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 
+#include "msm_sim/material/power_spring_law.h"
 #include "msm_sim/material/spring_law.h"
 
 namespace msm_sim::core {
@@ -26,17 +27,22 @@ struct SelfCalibrationConditions {
   double max_distance = 0.0;               ///< maxL / l
   std::uint32_t stiffness_law = kInverseSquareStiffness;
   SpringLaw spring_law = SpringLaw::kLinear;
+  /// The law's alpha and beta when spring_law is kPower (docs/physics.md §4.1); else unread.
+  PowerSpringLaw power_law;
   bool isotropic_dispersion = true;  ///< isotropic dispersion weights (docs/physics.md §3)
   int block_cells = 0;               ///< the representative block is 3w x w x w spacings
   std::uint64_t seed = 0;            ///< the representative block's seed
 
-  /// Equal in every field, doubles bit for bit.
+  /// Equal in every field, doubles bit for bit (power_law for kPower only).
   bool operator==(const SelfCalibrationConditions& other) const {
-    return lattice == other.lattice && spacing == other.spacing && poisson == other.poisson &&
-           min_distance == other.min_distance && max_distance == other.max_distance &&
-           stiffness_law == other.stiffness_law && spring_law == other.spring_law &&
-           isotropic_dispersion == other.isotropic_dispersion && block_cells == other.block_cells &&
-           seed == other.seed;
+    const bool same_power_law =
+        spring_law != SpringLaw::kPower ||
+        (power_law.alpha == other.power_law.alpha && power_law.beta == other.power_law.beta);
+    return same_power_law && lattice == other.lattice && spacing == other.spacing &&
+           poisson == other.poisson && min_distance == other.min_distance &&
+           max_distance == other.max_distance && stiffness_law == other.stiffness_law &&
+           spring_law == other.spring_law && isotropic_dispersion == other.isotropic_dispersion &&
+           block_cells == other.block_cells && seed == other.seed;
   }
   bool operator!=(const SelfCalibrationConditions& other) const { return !(*this == other); }
 };
