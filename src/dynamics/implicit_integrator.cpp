@@ -116,12 +116,15 @@ MaskedPcgOptions ImplicitIntegrator::SolverOptions(const WorldOptions& options, 
       h * options.gravity.norm() * free.row(0).cwiseProduct(m.transpose()).norm();
   if (options.implicit_energy_tolerance > 0.0) {
     solver.early_relative_tolerance = options.implicit_early_tolerance;
-    // |dKE| <= |v + dv|_M |A^-1 r|_M <= |v + dv|_M |r|_(M^-1), since A = M + c K >= M.
+    // |dKE| <= |v + dv|_M |A^-1 r|_M <= |v + dv|_M |r|_(M^-1), since A = M + c K >= M; the
+    // kinetic energy is the free nodes' (a kinematic node's velocity is prescribed).
     const double bound = options.implicit_energy_tolerance;
     const Eigen::Matrix3Xd& v = body.state.velocities;
-    solver.accept_early = [&m, &v, bound](const Eigen::Matrix3Xd& dv, const Eigen::Matrix3Xd& r) {
+    const Eigen::VectorXd free_masses = m.cwiseProduct(free.row(0).transpose());
+    solver.accept_early = [&m, &v, free_masses, bound](const Eigen::Matrix3Xd& dv,
+                                                       const Eigen::Matrix3Xd& r) {
       const double residual = (r.colwise().squaredNorm() * m.cwiseInverse()).value();
-      const double momentum = ((v + dv).colwise().squaredNorm() * m).value();
+      const double momentum = ((v + dv).colwise().squaredNorm() * free_masses).value();
       return residual <= bound * bound * momentum;
     };
   }

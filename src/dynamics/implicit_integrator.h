@@ -78,8 +78,8 @@ class ImplicitIntegrator {
   /// The kick's conjugate-gradient options for a substep h of a body whose free DOFs are `free`
   /// (WorldOptions' tolerances; the early stop bounds the change the residual impulse r can make
   /// to the kinetic energy after the kick: |r|_(M^-1) <= implicit_energy_tolerance |v + dv|_M,
-  /// docs/physics.md §7.1). The options refer to *body's masses and velocities, which must
-  /// outlive them and not change while they are in use.
+  /// docs/physics.md §7.1, over the nodes free in `free`). The options refer to *body's masses
+  /// and velocities, which must outlive them and not change while they are in use.
   static MaskedPcgOptions SolverOptions(const WorldOptions& options, const Body& body, double h,
                                         const Eigen::Matrix3Xd& free);
   /// Moves from *speculative to *held the contacts whose node, at velocity v + dv, approaches
