@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include "model_file_bytes.h"
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/geometry/vtk_export.h"
@@ -34,8 +35,6 @@
 
 namespace msm_sim::core {
 namespace {
-
-using Bytes = std::vector<unsigned char>;
 
 // Layout of format versions 1 to 3 (model_file.h), for crafting damaged files.
 constexpr std::size_t kVersionOffset = 16;
@@ -129,71 +128,8 @@ void ExpectSameForces(const Model& a, const Model& b) {
   EXPECT_TRUE(SameBits(eval_a.ElasticEnergy(positions), eval_b.ElasticEnergy(positions)));
 }
 
-Bytes ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-void WriteBytes(const std::string& path, const unsigned char* data, std::size_t size) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  ASSERT_TRUE(out.good());
-}
-void WriteBytes(const std::string& path, const Bytes& bytes) {
-  WriteBytes(path, bytes.data(), bytes.size());
-}
-
-std::uint32_t GetU32(const Bytes& bytes, std::size_t offset) {
-  std::uint32_t value = 0;
-  for (int i = 0; i < 4; ++i) value |= std::uint32_t{bytes[offset + i]} << (8 * i);
-  return value;
-}
-void PutU32(Bytes* bytes, std::size_t offset, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(value >> (8 * i));
-}
-void PutU64(Bytes* bytes, std::size_t offset, std::uint64_t value) {
-  for (int i = 0; i < 8; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(value >> (8 * i));
-}
-double GetF64(const Bytes& bytes, std::size_t offset) {
-  std::uint64_t bits = 0;
-  for (int i = 0; i < 8; ++i) bits |= std::uint64_t{bytes[offset + i]} << (8 * i);
-  double value;
-  std::memcpy(&value, &bits, sizeof value);
-  return value;
-}
-void PutF64(Bytes* bytes, std::size_t offset, double value) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  PutU64(bytes, offset, bits);
-}
-
-// Recomputes the trailing FNV-1a 64 checksum, so that a test can hand LoadModel a file whose
-// only defect is the one it planted (a malicious file, rather than a corrupt one).
-void Reseal(Bytes* bytes) {
-  std::uint64_t hash = 14695981039346656037ULL;
-  for (std::size_t i = 0; i + 8 < bytes->size(); ++i)
-    hash = (hash ^ (*bytes)[i]) * 1099511628211ULL;
-  PutU64(bytes, bytes->size() - 8, hash);
-}
-
-class ModelFileTest : public ::testing::Test {
+class ModelFileTest : public ModelFileDirectoryTest {
  protected:
-  void SetUp() override {
-    std::string pattern = ::testing::TempDir() + "msm_model_file_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
-
-  // The file SaveModel writes for `model`.
-  Bytes Saved(const Model& model) {
-    const std::string path = Path("saved.msm");
-    SaveModel(model, path);
-    return ReadBytes(path);
-  }
-
   // LoadModel's message for `bytes`; fails the test unless it throws std::runtime_error.
   std::string LoadError(const Bytes& bytes) {
     const std::string path = Path("damaged.msm");
@@ -209,8 +145,6 @@ class ModelFileTest : public ::testing::Test {
     ADD_FAILURE() << "LoadModel accepted the file";
     return "";
   }
-
-  std::string dir_;
 };
 
 #define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)

@@ -17,6 +17,7 @@
 
 #include <gtest/gtest.h>
 
+#include "model_file_bytes.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
@@ -26,13 +27,10 @@
 namespace msm_sim::core {
 namespace {
 
-using Bytes = std::vector<unsigned char>;
-
 // Offsets of format version 3 (model_file.h): the spring-law parameters are the 16 bytes before
 // the 100-byte self-calibration block, which ends 8 bytes (the checksum) before the end.
 constexpr std::size_t kVersionOffset = 16;
 constexpr std::size_t kLawOffset = 32;
-constexpr std::size_t kChecksumBytes = 8;
 constexpr std::size_t kBlockBytes = 100;
 constexpr std::size_t kParameterBytes = 16;
 
@@ -66,24 +64,6 @@ Model CalibratedPowerLawModel(const SelfCalibrationConditions& conditions) {
   return BuildRandomLattice(kMaterial, options);
 }
 
-void PutU32(Bytes* bytes, std::size_t offset, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(value >> (8 * i));
-}
-void PutF64(Bytes* bytes, std::size_t offset, double value) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  for (int i = 0; i < 8; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(bits >> (8 * i));
-}
-// Recomputes the trailing FNV-1a 64 checksum.
-void Reseal(Bytes* bytes) {
-  std::uint64_t hash = 14695981039346656037ULL;
-  for (std::size_t i = 0; i + kChecksumBytes < bytes->size(); ++i) {
-    hash = (hash ^ (*bytes)[i]) * 1099511628211ULL;
-  }
-  for (int i = 0; i < 8; ++i) {
-    (*bytes)[bytes->size() - kChecksumBytes + i] = static_cast<unsigned char>(hash >> (8 * i));
-  }
-}
 std::size_t ParametersOffset(const Bytes& bytes) {
   return bytes.size() - kChecksumBytes - kBlockBytes - kParameterBytes;
 }
@@ -104,28 +84,8 @@ void ExpectSameForces(const Model& a, const Model& b) {
   EXPECT_EQ(eval_a.ElasticEnergy(positions), eval_b.ElasticEnergy(positions));
 }
 
-class PowerLawFileTest : public ::testing::Test {
+class PowerLawFileTest : public ModelFileDirectoryTest {
  protected:
-  void SetUp() override {
-    std::string pattern = ::testing::TempDir() + "msm_power_law_file_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
-
-  Bytes Saved(const Model& model) {
-    SaveModel(model, Path("saved.msm"));
-    std::ifstream in(Path("saved.msm"), std::ios::binary);
-    return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  Model Loaded(const Bytes& bytes) {
-    std::ofstream(Path("edited.msm"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()),
-               static_cast<std::streamsize>(bytes.size()));
-    return LoadModel(Path("edited.msm"));
-  }
   // LoadModel's one-line message for `bytes` resealed; fails the test if it loads.
   std::string LoadError(Bytes bytes) {
     Reseal(&bytes);
@@ -138,8 +98,6 @@ class PowerLawFileTest : public ::testing::Test {
     ADD_FAILURE() << "LoadModel accepted the file";
     return "";
   }
-
-  std::string dir_;
 };
 
 #define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)

@@ -15,13 +15,12 @@
 
 #include <gtest/gtest.h>
 
+#include "model_file_bytes.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/model/model_file.h"
 
 namespace msm_sim::core {
 namespace {
-
-using Bytes = std::vector<unsigned char>;
 
 // Offsets of format versions 2 and 3 (model_file.h): the block is the last 100 bytes before the
 // checksum, version 3's 16 bytes of spring-law parameters before it, the format version at
@@ -29,7 +28,6 @@ using Bytes = std::vector<unsigned char>;
 constexpr std::size_t kVersionOffset = 16;
 constexpr std::size_t kBlockBytes = 100;
 constexpr std::size_t kSpringLawParameterBytes = 16;
-constexpr std::size_t kChecksumBytes = 8;
 
 const Material kMaterial = Material::FromYoungsPoisson(2e5, 0.4, 1200.0);
 
@@ -53,47 +51,8 @@ Model CalibratedModel() {
   return BuildRandomLattice(kMaterial, options);
 }
 
-void PutU32(Bytes* bytes, std::size_t offset, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(value >> (8 * i));
-}
-void PutF64(Bytes* bytes, std::size_t offset, double value) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &value, sizeof bits);
-  for (int i = 0; i < 8; ++i) (*bytes)[offset + i] = static_cast<unsigned char>(bits >> (8 * i));
-}
-// Recomputes the trailing FNV-1a 64 checksum.
-void Reseal(Bytes* bytes) {
-  std::uint64_t hash = 14695981039346656037ULL;
-  for (std::size_t i = 0; i + kChecksumBytes < bytes->size(); ++i) {
-    hash = (hash ^ (*bytes)[i]) * 1099511628211ULL;
-  }
-  for (int i = 0; i < 8; ++i) {
-    (*bytes)[bytes->size() - kChecksumBytes + i] = static_cast<unsigned char>(hash >> (8 * i));
-  }
-}
-
-class SelfCalibrationFileTest : public ::testing::Test {
+class SelfCalibrationFileTest : public ModelFileDirectoryTest {
  protected:
-  void SetUp() override {
-    std::string pattern = ::testing::TempDir() + "msm_self_calibration_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
-
-  Bytes Saved(const Model& model) {
-    SaveModel(model, Path("saved.msm"));
-    std::ifstream in(Path("saved.msm"), std::ios::binary);
-    return Bytes(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  }
-  Model Loaded(const Bytes& bytes) {
-    std::ofstream(Path("edited.msm"), std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()),
-               static_cast<std::streamsize>(bytes.size()));
-    return LoadModel(Path("edited.msm"));
-  }
   // LoadModel's message for `bytes` with the block's field at `offset` set by `edit`.
   template <typename Edit>
   std::string BlockError(const Bytes& good, Edit edit) {
@@ -109,8 +68,6 @@ class SelfCalibrationFileTest : public ::testing::Test {
     ADD_FAILURE() << "LoadModel accepted the block";
     return "";
   }
-
-  std::string dir_;
 };
 
 #define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
