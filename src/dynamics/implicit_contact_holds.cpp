@@ -134,7 +134,10 @@ bool ImplicitIntegrator::UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Ei
     if (!(contact.friction > 0.0)) continue;  // frictionless: slides with no impulse
     const Eigen::Vector3d impulse = -residual.col(contact.node);
     if (contact.friction_hold == FrictionHold::kStuck) {
-      const Eigen::Vector3d sliding = SlidingImpulseOfStick(contact, impulse);
+      // Past the cone by more than the tolerance a slide's limit keeps: at the cone's edge the
+      // exact test let a contact flip stick -> slide -> stick in every kick, a solve per flip.
+      const Eigen::Vector3d sliding =
+          SlidingImpulseOfStick(contact, impulse, kSlidingImpulseTolerance);
       if (!sliding.isZero(0.0)) {
         contact.friction_hold = FrictionHold::kSliding;
         contact.sliding_impulse = sliding;
@@ -164,11 +167,12 @@ bool ImplicitIntegrator::UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Ei
 }
 
 Eigen::Vector3d ImplicitIntegrator::SlidingImpulseOfStick(const ContactNormal& contact,
-                                                          const Eigen::Vector3d& impulse) {
+                                                          const Eigen::Vector3d& impulse,
+                                                          double margin) {
   const double normal = impulse.dot(contact.normal);
   const Eigen::Vector3d tangential = impulse - normal * contact.normal;
   const double limit = contact.friction * normal;
-  if (!(tangential.norm() > limit)) return Eigen::Vector3d::Zero();
+  if (!(tangential.norm() > (1.0 + margin) * limit)) return Eigen::Vector3d::Zero();
   return limit * tangential.normalized();
 }
 

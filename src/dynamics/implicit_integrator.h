@@ -93,8 +93,9 @@ class ImplicitIntegrator {
   static void HoldContacts(const Eigen::Matrix3Xd& v, const std::vector<ContactNormal>& held,
                            DofProjection* projection, Eigen::Matrix3Xd* dv);
   /// After a solve with this residual (b - A dv, the sliding impulses included in b): a stuck
-  /// contact whose hold's tangential impulse exceeds friction times its normal one slides, with
-  /// the Coulomb impulse along that tangential impulse; a sliding one whose slip (v + dv
+  /// contact whose hold's tangential impulse exceeds friction times its normal one by more than
+  /// kSlidingImpulseTolerance of it slides, with the Coulomb impulse along that tangential
+  /// impulse; a sliding one whose slip (v + dv
   /// relative to the collider) turned more than 45 degrees from against its impulse sticks; a
   /// sliding one's impulse takes friction times the new normal impulse when that moved it by
   /// more than kSlidingImpulseTolerance. Returns whether any of that happened.
@@ -103,10 +104,11 @@ class ImplicitIntegrator {
                                   const Eigen::Matrix3Xd& residual,
                                   std::vector<ContactNormal>* held);
   /// For a stuck contact whose hold applied `impulse` (N s, on the node): the Coulomb impulse it
-  /// slides with when the tangential part leaves the cone (friction times the normal part, along
-  /// the tangential part); zero while it stays within.
+  /// slides with when the tangential part leaves the cone widened by `margin` (a fraction of
+  /// friction times the normal part), friction times the normal part along the tangential
+  /// part; zero while it stays within. Precondition: margin >= 0.
   static Eigen::Vector3d SlidingImpulseOfStick(const ContactNormal& contact,
-                                               const Eigen::Vector3d& impulse);
+                                               const Eigen::Vector3d& impulse, double margin = 0.0);
   /// Removes from *held the contacts whose hold pulls the node into the collider after a solve
   /// with this residual (b - A dv); returns whether there was any.
   static bool ReleasePullingContacts(const Eigen::Matrix3Xd& residual,

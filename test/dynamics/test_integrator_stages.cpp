@@ -89,6 +89,22 @@ TEST(ImplicitContactHolds, AStickLeavesTheConeWithItsCoulombImpulse) {
             1e-15);
 }
 
+TEST(ImplicitContactHolds, AStickSlidesOnlyOnceItLeavesTheConeByMoreThanTheSlidesTolerance) {
+  // A stick at the cone's edge must not flip to sliding in a pass (and back in the next, a solve
+  // each): the passes let it leave the cone by the tolerance a slide's limit keeps (2 %).
+  std::vector<ContactNormal> held{Held(0, 0.5), Held(1, 0.5)};
+  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, 2), dv = Eigen::Matrix3Xd::Zero(3, 2);
+  Eigen::Matrix3Xd residual(3, 2);  // the holds' impulses are -residual: normal 2 N s each
+  residual.col(0) = -Eigen::Vector3d(1.01, 0, 2);  // 1 % past mu 2 = 1 N s
+  residual.col(1) = -Eigen::Vector3d(0, 1.03, 2);  // 3 % past it
+  EXPECT_TRUE(ImplicitIntegrator::UpdateFrictionHolds(v, dv, residual, &held));
+  EXPECT_EQ(held[0].friction_hold, FrictionHold::kStuck);
+  EXPECT_EQ(held[1].friction_hold, FrictionHold::kSliding);
+  EXPECT_LT((held[1].sliding_impulse - Eigen::Vector3d(0, 1, 0)).norm(), 1e-15);
+  // Once the kick is done, a stick past the exact cone starts the next kick sliding.
+  EXPECT_GT(ImplicitIntegrator::SlidingImpulseOfStick(held[0], -residual.col(0)).norm(), 0.0);
+}
+
 TEST(ImplicitContactHolds, AHoldThatPullsIsReleased) {
   std::vector<ContactNormal> held{Held(0, 0.5), Held(1, 0.5)};
   Eigen::Matrix3Xd residual = Eigen::Matrix3Xd::Zero(3, 2);
