@@ -25,6 +25,12 @@ constexpr double kSpeculativeReach = 1.0;
 // solve twice (docs/design/integrator.md).
 constexpr double kSpeculativeSlop = 0.05;
 
+// A collision sphere whose gap to the collider is under this fraction of its radius touches (is
+// held from the start of the kick): a held node ends its kick on the surface only to rounding,
+// and a gap of rounding left it speculative, held again by a second solve in every kick
+// (docs/design/integrator.md).
+constexpr double kTouchingGap = 1e-9;
+
 // A sliding contact starts a kick with the last kick's Coulomb impulse and is solved again when
 // its normal impulse moves that limit by more than this fraction: a slide keeps a friction
 // consistent with its current normal load (docs/physics.md §7.1) without a solve for every small
@@ -51,7 +57,8 @@ std::vector<ContactNormal> ImplicitIntegrator::DeepestColliderContacts(const Bod
     const NodeContact& best = *std::min_element(
         contacts.begin(), contacts.end(),
         [&depth](const NodeContact& a, const NodeContact& b) { return depth(a) < depth(b); });
-    const double closing_speed = std::max(best.distance - radius, 0.0) / h;
+    const double gap = best.distance - radius;
+    const double closing_speed = gap > kTouchingGap * radius ? gap / h : 0.0;
     const double approach =
         -(Eigen::Vector3d(body.state.velocities.col(node)) - best.velocity).dot(best.normal);
     const double friction = contacts_.Friction(body, best.collider);

@@ -1,11 +1,13 @@
 // The substep's per-node stages (src/dynamics/node_stages.h) and the implicit kick's contact
 // holds (src/dynamics/implicit_integrator.h), each on its own.
+#include <cmath>
 #include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Core>
 
+#include "dynamics/collider_contacts.h"
 #include "dynamics/implicit_integrator.h"
 #include "dynamics/node_stages.h"
 #include "internal_world.h"
@@ -103,6 +105,32 @@ TEST(ImplicitContactHolds, AStickSlidesOnlyOnceItLeavesTheConeByMoreThanTheSlide
   EXPECT_LT((held[1].sliding_impulse - Eigen::Vector3d(0, 1, 0)).norm(), 1e-15);
   // Once the kick is done, a stick past the exact cone starts the next kick sliding.
   EXPECT_GT(ImplicitIntegrator::SlidingImpulseOfStick(held[0], -residual.col(0)).norm(), 0.0);
+}
+
+TEST(ImplicitContactHolds, ASphereOnTheSurfaceToRoundingTouchesAndOneAboveItIsSpeculative) {
+  // A held node ends its kick on the surface only to rounding; had that left it speculative, a
+  // second solve would hold it again in every kick.
+  WorldState world{WorldOptions{}};
+  world.colliders.push_back(Collider{});  // the plane z = 0
+  Body& body = AddBody(&world, "block", SmallBlock(Eigen::Vector3d::Zero()));
+  const double radius = body.border.radii.front();
+  const double h = 1e-3;
+  const NodeIndex low = body.border.nodes.front(), raised = body.border.nodes.back();
+  for (NodeIndex node = 0; node < body.model->num_nodes(); ++node)
+    body.state.positions(2, node) += 1.0;
+  body.state.positions(2, low) = std::nextafter(std::nextafter(radius, 1.0), 1.0);
+  body.state.positions(2, raised) = 1.5 * radius;
+  ColliderContacts contacts(&world);
+  const std::vector<ContactNormal> found =
+      ImplicitIntegrator(&world, &contacts).DeepestColliderContacts(body, h);
+  ASSERT_EQ(found.size(), 2u);
+  for (const ContactNormal& contact : found) {
+    if (contact.node == low) {
+      EXPECT_EQ(contact.closing_speed, 0.0);
+    } else {
+      EXPECT_NEAR(contact.closing_speed, 0.5 * radius / h, 1e-12);
+    }
+  }
 }
 
 TEST(ImplicitContactHolds, AHoldThatPullsIsReleased) {
