@@ -95,10 +95,10 @@ class ImplicitIntegrator {
   /// After a solve with this residual (b - A dv, the sliding impulses included in b): a stuck
   /// contact whose hold's tangential impulse exceeds friction times its normal one by more than
   /// kSlidingImpulseTolerance of it slides, with the Coulomb impulse along that tangential
-  /// impulse; a sliding one whose slip (v + dv
-  /// relative to the collider) turned more than 45 degrees from against its impulse sticks; a
-  /// sliding one's impulse takes friction times the new normal impulse when that moved it by
-  /// more than kSlidingImpulseTolerance. Returns whether any of that happened.
+  /// impulse; a sliding one whose slip (v + dv relative to the collider) turned more than 45
+  /// degrees from against its impulse sticks; a sliding one's impulse takes friction times the
+  /// new normal impulse when that moved it by more than kSlidingImpulseTolerance. Returns
+  /// whether any of that happened.
   /// Precondition: no contact in held pulls (ReleasePullingContacts).
   static bool UpdateFrictionHolds(const Eigen::Matrix3Xd& v, const Eigen::Matrix3Xd& dv,
                                   const Eigen::Matrix3Xd& residual,

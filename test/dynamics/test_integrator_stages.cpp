@@ -113,13 +113,13 @@ TEST(ImplicitContactHolds, ASphereOnTheSurfaceToRoundingTouchesAndOneAboveItIsSp
   WorldState world{WorldOptions{}};
   world.colliders.push_back(Collider{});  // the plane z = 0
   Body& body = AddBody(&world, "block", SmallBlock(Eigen::Vector3d::Zero()));
-  const double radius = body.border.radii.front();
   const double h = 1e-3;
   const NodeIndex low = body.border.nodes.front(), raised = body.border.nodes.back();
+  const double radius = body.border.radii.front(), raised_radius = body.border.radii.back();
   for (NodeIndex node = 0; node < body.model->num_nodes(); ++node)
     body.state.positions(2, node) += 1.0;
   body.state.positions(2, low) = std::nextafter(std::nextafter(radius, 1.0), 1.0);
-  body.state.positions(2, raised) = 1.5 * radius;
+  body.state.positions(2, raised) = 1.5 * raised_radius;
   ColliderContacts contacts(&world);
   const std::vector<ContactNormal> found =
       ImplicitIntegrator(&world, &contacts).DeepestColliderContacts(body, h);
@@ -128,7 +128,7 @@ TEST(ImplicitContactHolds, ASphereOnTheSurfaceToRoundingTouchesAndOneAboveItIsSp
     if (contact.node == low) {
       EXPECT_EQ(contact.closing_speed, 0.0);
     } else {
-      EXPECT_NEAR(contact.closing_speed, 0.5 * radius / h, 1e-12);
+      EXPECT_NEAR(contact.closing_speed, 0.5 * raised_radius / h, 1e-12);
     }
   }
 }
