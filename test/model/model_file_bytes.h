@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -95,6 +96,18 @@ class ModelFileDirectoryTest : public ::testing::Test {
     const std::string path = Path("edited.msm");
     WriteBytes(path, bytes);
     return LoadModel(path);
+  }
+  /// LoadModel's message for `bytes` (written to edited.msm); fails the test unless it throws
+  /// std::runtime_error with a one-line message.
+  std::string LoadError(const Bytes& bytes) {
+    try {
+      Loaded(bytes);
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+      return e.what();
+    }
+    ADD_FAILURE() << "LoadModel accepted the file";
+    return "";
   }
 
   std::string dir_;

@@ -2,15 +2,9 @@
 // of docs/physics.md §4.1 saves and loads with its alpha and beta and the same forces, its
 // self-calibration keeps the law, version-2 files still load, and bad parameters are one clean
 // std::runtime_error.
-#include <sys/stat.h>
-#include <sys/types.h>
 
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -89,14 +83,7 @@ class PowerLawFileTest : public ModelFileDirectoryTest {
   // LoadModel's one-line message for `bytes` resealed; fails the test if it loads.
   std::string LoadError(Bytes bytes) {
     Reseal(&bytes);
-    try {
-      Loaded(bytes);
-    } catch (const std::runtime_error& e) {
-      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
-      return e.what();
-    }
-    ADD_FAILURE() << "LoadModel accepted the file";
-    return "";
+    return ModelFileDirectoryTest::LoadError(bytes);
   }
 };
 
