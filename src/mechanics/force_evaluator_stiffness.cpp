@@ -140,10 +140,12 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
     }
     first_run[t] = r;
   }
-  // dv as float x, y, z blocks of N, then per share its K dv (3 N) and dJ (N).
-  single_stiffness_arrays_.resize(7 * n + 4 * n * (shares - 1));
+  // dv as float x, y, z blocks of N, then per share its K dv at the a ends and at the b ends
+  // (3 N each) and its dJ at the a ends and at the b ends (N each).
+  constexpr int kPart = 8;
+  single_stiffness_arrays_.resize(3 * n + kPart * n * shares);
   float* dv = single_stiffness_arrays_.data();
-  const auto part = [dv, n](int t) { return dv + 3 * n + 4 * n * t; };
+  const auto part = [dv, n](int t) { return dv + 3 * n + kPart * n * t; };
   const double zero[3] = {0.0, 0.0, 0.0};
   ToSingleNodeArrays(v.data(), n, 0, n, zero, dv);
   const float* data = single_stiffness_.data();
@@ -155,15 +157,16 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
   const bool disperse = model_->dispersion_fraction() != 0.0;
   internal::SharePlan::Run(shares, [&](int t) {
     float* product = part(t);
-    std::fill(product, product + 4 * n, 0.0f);
+    std::fill(product, product + kPart * n, 0.0f);
     SingleStiffnessRuns(springs, first_run[t], first_run[t + 1], dv, n, product,
-                        disperse ? product + 3 * n : nullptr);
+                        disperse ? product + 6 * n : nullptr);
   });
   if (disperse) {
-    float* dg = part(0) + 3 * n;
+    float* dg = part(0) + 6 * n;
+    for (Eigen::Index i = 0; i < n; ++i) dg[i] += dg[n + i];
     for (int t = 1; t < shares; ++t) {
-      const float* dj = part(t) + 3 * n;
-      for (Eigen::Index i = 0; i < n; ++i) dg[i] += dj[i];
+      const float* dj = part(t) + 6 * n;
+      for (Eigen::Index i = 0; i < n; ++i) dg[i] += dj[i] + dj[n + i];
     }
     for (Eigen::Index i = 0; i < n; ++i) {
       dg[i] = static_cast<float>(dg[i] * inverse_star_weight_[i]);  // dg = dJ / W
@@ -175,8 +178,8 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
   out->resize(3, n);
   for (Eigen::Index i = 0; i < n; ++i) {
     for (int d = 0; d < 3; ++d) {
-      float sum = part(0)[d * n + i];
-      for (int t = 1; t < shares; ++t) sum += part(t)[d * n + i];
+      float sum = part(0)[d * n + i] + part(0)[(3 + d) * n + i];
+      for (int t = 1; t < shares; ++t) sum += part(t)[d * n + i] + part(t)[(3 + d) * n + i];
       (*out)(d, i) = sum;
     }
   }
@@ -188,27 +191,32 @@ void ForceEvaluator::ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix
     return;
   }
   const Eigen::Index n = model_->num_nodes();
-  stiffness_arrays_.resize(6 * n);
+  // dv, then the product at the a ends and at the b ends, x, y, z blocks of N each.
+  stiffness_arrays_.resize(9 * n);
   double* dv = stiffness_arrays_.data();
   double* product = dv + 3 * n;
   ToNodeArrays(v.data(), n, dv);
-  std::fill(product, product + 3 * n, 0.0);
+  std::fill(product, product + 6 * n, 0.0);
   const ScheduledSprings springs = scheduled_->View();
   const int runs = static_cast<int>(scheduled_->schedule.runs.size());
   const ScheduledLinearization linearization =
       ScheduledLinearization::Of(scheduled_linearization_.data(), model_->num_springs());
-  const MutableNodeArrays product_arrays{product, product + n, product + 2 * n};
+  const MutableNodeArrays a_ends{product, product + n, product + 2 * n};
+  const MutableNodeArrays b_ends{product + 3 * n, product + 4 * n, product + 5 * n};
   const bool disperse = model_->dispersion_fraction() != 0.0;
-  if (disperse) accumulator_change_.setZero(n);
-  StiffnessRuns(springs, 0, runs, linearization, {dv, dv + n, dv + 2 * n}, product_arrays,
-                disperse ? accumulator_change_.data() : nullptr);
+  if (disperse) accumulator_change_.setZero(2 * n);
+  double* change = accumulator_change_.data();
+  StiffnessRuns(springs, 0, runs, linearization, {dv, dv + n, dv + 2 * n}, a_ends, b_ends,
+                disperse ? change : nullptr, disperse ? change + n : nullptr);
   if (disperse) {
-    accumulator_change_.array() *= inverse_star_weight_.array();  // dg = dJ / W
-    DispersedStiffnessRuns(springs, 0, runs, linearization, accumulator_change_.data(),
-                           product_arrays);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      change[i] = (change[i] + change[n + i]) * inverse_star_weight_[i];  // dg = dJ / W
+    }
+    DispersedStiffnessRuns(springs, 0, runs, linearization, change, a_ends, b_ends);
   }
   out->setZero(3, n);
   AddNodeArrays(product, n, out->data());
+  AddNodeArrays(product + 3 * n, n, out->data());
 }
 
 void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {

@@ -128,42 +128,49 @@ void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, 
 MSM_SIM_SIMD_CLONES
 void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                    const ScheduledLinearization& linearization, const NodeArrays& dv,
-                   const MutableNodeArrays& out, double* accumulator_change) {
+                   const MutableNodeArrays& out_a, const MutableNodeArrays& out_b, double* change_a,
+                   double* change_b) {
   const double* const from[3] = {dv.x, dv.y, dv.z};
-  double* const to[3] = {out.x, out.y, out.z};
+  double* const to_a[3] = {out_a.x, out_a.y, out_a.z};
+  double* const to_b[3] = {out_b.x, out_b.y, out_b.z};
   internal::StiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.stiffness,
                                     springs.inflow_a, springs.inflow_b, linearization.ux,
                                     linearization.uy, linearization.uz, linearization.geometric,
-                                    from, to, accumulator_change);
+                                    from, to_a, to_b, change_a, change_b);
 }
 
 MSM_SIM_SIMD_CLONES
 void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                             const ScheduledLinearization& linearization, const double* dg,
-                            const MutableNodeArrays& out) {
-  double* const to[3] = {out.x, out.y, out.z};
+                            const MutableNodeArrays& out_a, const MutableNodeArrays& out_b) {
+  double* const to_a[3] = {out_a.x, out_a.y, out_a.z};
+  double* const to_b[3] = {out_b.x, out_b.y, out_b.z};
   internal::DispersedStiffnessRunsOf<double>(springs.runs, run_begin, run_end, springs.outflow_a,
                                              springs.outflow_b, linearization.ux, linearization.uy,
-                                             linearization.uz, dg, to);
+                                             linearization.uz, dg, to_a, to_b);
 }
 
 MSM_SIM_SIMD_CLONES
 void SingleStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin, int run_end,
                          const float* dv, long n, float* out, float* accumulator_change) {
   const float* const from[3] = {dv, dv + n, dv + 2 * n};
-  float* const to[3] = {out, out + n, out + 2 * n};
+  float* const to_a[3] = {out, out + n, out + 2 * n};
+  float* const to_b[3] = {out + 3 * n, out + 4 * n, out + 5 * n};
+  float* change_b = accumulator_change != nullptr ? accumulator_change + n : nullptr;
   internal::StiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.stiffness,
                                    springs.inflow_a, springs.inflow_b, springs.ux, springs.uy,
-                                   springs.uz, springs.geometric, from, to, accumulator_change);
+                                   springs.uz, springs.geometric, from, to_a, to_b,
+                                   accumulator_change, change_b);
 }
 
 MSM_SIM_SIMD_CLONES
 void SingleDispersedStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin,
                                   int run_end, const float* dg, long n, float* out) {
-  float* const to[3] = {out, out + n, out + 2 * n};
+  float* const to_a[3] = {out, out + n, out + 2 * n};
+  float* const to_b[3] = {out + 3 * n, out + 4 * n, out + 5 * n};
   internal::DispersedStiffnessRunsOf<float>(springs.runs, run_begin, run_end, springs.outflow_a,
                                             springs.outflow_b, springs.ux, springs.uy, springs.uz,
-                                            dg, to);
+                                            dg, to_a, to_b);
 }
 
 }  // namespace msm_sim::core

@@ -81,18 +81,22 @@ void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, 
                    const NodeArrays& positions, const double* total_tensions, bool drop_compression,
                    double* storage);
 
-/// Stiffness product, direct part: out += K_direct dv, the change of the springs' own tensions
-/// (k u.d(dv) along u plus the geometric term), and, when `accumulator_change` is not null,
-/// the eMSM accumulators' change inflow * k u.d(dv) at both ends.
+/// Stiffness product, direct part: the change of the springs' own tensions (k u.d(dv) along u
+/// plus the geometric term), each spring's part added at its a end to `out_a` and at its b end
+/// to `out_b` (K_direct dv is their sum), and, when `change_a` is not null, the eMSM
+/// accumulators' change inflow * k u.d(dv) at the a ends to `change_a` and at the b ends to
+/// `change_b`.
 void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                    const ScheduledLinearization& linearization, const NodeArrays& dv,
-                   const MutableNodeArrays& out, double* accumulator_change);
+                   const MutableNodeArrays& out_a, const MutableNodeArrays& out_b, double* change_a,
+                   double* change_b);
 
-/// Stiffness product, dispersed part: out += the change of the dispersed tensions
-/// outflow_a dg_a + outflow_b dg_b along u, with dg = (accumulator change) / W per node.
+/// Stiffness product, dispersed part: the change of the dispersed tensions
+/// outflow_a dg_a + outflow_b dg_b along u, with dg = (accumulator change) / W per node, its
+/// ends added to `out_a` and `out_b` as in StiffnessRuns.
 void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                             const ScheduledLinearization& linearization, const double* dg,
-                            const MutableNodeArrays& out);
+                            const MutableNodeArrays& out_a, const MutableNodeArrays& out_b);
 
 /// The stiffness product's per-spring data in single precision, in the order of the (double)
 /// schedule's runs: the springs' k and eMSM coefficients, and a linearisation's u and T / L, all
@@ -110,10 +114,12 @@ struct SingleScheduledStiffness {
   const float* geometric;
 };
 
-/// StiffnessRuns in single precision: dv and out as float x, y, z blocks of n.
+/// StiffnessRuns in single precision: dv as float x, y, z blocks of n; `out` the a ends' x, y, z
+/// blocks then the b ends'; `accumulator_change` (null: no dispersion) the a ends' then the b
+/// ends'.
 void SingleStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin, int run_end,
                          const float* dv, long n, float* out, float* accumulator_change);
-/// DispersedStiffnessRuns in single precision.
+/// DispersedStiffnessRuns in single precision, `out` as in SingleStiffnessRuns.
 void SingleDispersedStiffnessRuns(const SingleScheduledStiffness& springs, int run_begin,
                                   int run_end, const float* dg, long n, float* out);
 

@@ -13,8 +13,7 @@
 
 namespace msm_sim::core::internal {
 
-/// Longest run of the double schedule (SpringSchedule), whose runs the stiffness products of
-/// both precisions take: the length of a run's scratch.
+/// Longest run of the double schedule (SpringSchedule): the length of a run's scratch.
 constexpr int kMaxRunLength = SpringSchedule::kMaxRunLength;
 
 /// 1 / L. The double kernels' springs are the model's, never of zero length (ForceEvaluator's
@@ -106,9 +105,8 @@ inline __attribute__((always_inline)) void StretchInflowAlongRun(
   }
 }
 
-/// A run's per-spring force vectors (SpringForcesAlongRun's RunEnds::kScratch, the stiffness
-/// products), which ApplyToEnds applies to the a ends in a first loop and to the b ends in a
-/// second.
+/// A run's per-spring force vectors (SpringForcesAlongRun's RunEnds::kScratch), which
+/// ApplyToEnds applies to the a ends in a first loop and to the b ends in a second.
 template <typename Real>
 struct RunScratch {
   alignas(64) Real x[kMaxRunLength];
@@ -137,75 +135,99 @@ inline __attribute__((always_inline)) void ApplyToEnds(const SpringRun& run,
   }
 }
 
-/// One run of the direct stiffness product; node arrays start at the run's a0.
-template <typename Real>
+/// One run of the direct stiffness product; node arrays from the run's a0 (dv, the a ends'
+/// out and change) or b0 (the b ends'). K dv on node a: -(k (u.dv) u + (T / L)(dv - u (u.dv)));
+/// node b gets the opposite. With Disperse, the accumulators' change inflow k (u.dv) per end.
+template <typename Real, bool Disperse>
 inline __attribute__((always_inline)) void StiffnessRun(
-    int n, int offset, const Real* __restrict k, const Real* __restrict ux,
-    const Real* __restrict uy, const Real* __restrict uz, const Real* __restrict geometric,
-    const Real* __restrict vx, const Real* __restrict vy, const Real* __restrict vz,
-    RunScratch<Real>* __restrict c, Real* __restrict rate) {
+    int n, int offset, const Real* __restrict k, const Real* __restrict in_a,
+    const Real* __restrict in_b, const Real* __restrict ux, const Real* __restrict uy,
+    const Real* __restrict uz, const Real* __restrict geometric, const Real* __restrict vx,
+    const Real* __restrict vy, const Real* __restrict vz, Real* __restrict ax, Real* __restrict ay,
+    Real* __restrict az, Real* __restrict bx, Real* __restrict by, Real* __restrict bz,
+    Real* __restrict ja, Real* __restrict jb) {
   for (int i = 0; i < n; ++i) {
     const Real dx = vx[i + offset] - vx[i];
     const Real dy = vy[i + offset] - vy[i];
     const Real dz = vz[i + offset] - vz[i];
     const Real stretch = ux[i] * dx + uy[i] * dy + uz[i] * dz;
     const Real along = k[i] * stretch - geometric[i] * stretch;
-    rate[i] = k[i] * stretch;
-    // K dv on node a: -(k (u.dv) u + (T / L)(dv - u (u.dv))); node b gets the opposite.
-    c->x[i] = -(along * ux[i] + geometric[i] * dx);
-    c->y[i] = -(along * uy[i] + geometric[i] * dy);
-    c->z[i] = -(along * uz[i] + geometric[i] * dz);
+    const Real cx = along * ux[i] + geometric[i] * dx;
+    const Real cy = along * uy[i] + geometric[i] * dy;
+    const Real cz = along * uz[i] + geometric[i] * dz;
+    ax[i] -= cx;
+    ay[i] -= cy;
+    az[i] -= cz;
+    bx[i] += cx;
+    by[i] += cy;
+    bz[i] += cz;
+    if constexpr (Disperse) {
+      const Real rate = k[i] * stretch;
+      ja[i] += in_a[i] * rate;
+      jb[i] += in_b[i] * rate;
+    }
+  }
+}
+
+/// One run of the dispersed part: the dispersed tensions' change o_a dg_a + o_b dg_b along u;
+/// arrays from the run's first spring, a0 (dg, the a ends) or b0 (the b ends).
+template <typename Real>
+inline __attribute__((always_inline)) void DispersedStiffnessRun(
+    int n, int offset, const Real* __restrict out_a, const Real* __restrict out_b,
+    const Real* __restrict ux, const Real* __restrict uy, const Real* __restrict uz,
+    const Real* __restrict dg, Real* __restrict ax, Real* __restrict ay, Real* __restrict az,
+    Real* __restrict bx, Real* __restrict by, Real* __restrict bz) {
+  for (int i = 0; i < n; ++i) {
+    const Real change = out_a[i] * dg[i] + out_b[i] * dg[i + offset];
+    ax[i] -= change * ux[i];
+    ay[i] -= change * uy[i];
+    az[i] -= change * uz[i];
+    bx[i] += change * ux[i];
+    by[i] += change * uy[i];
+    bz[i] += change * uz[i];
   }
 }
 
 /// The direct stiffness product over runs [run_begin, run_end) in Real: springs' k, inflows and
-/// the linearisation (u, T / L) in schedule order; dv and out as x, y, z arrays;
-/// accumulator_change (null: no dispersion) per node.
+/// the linearisation (u, T / L) in schedule order; dv as x, y, z arrays. Each spring's part goes
+/// to its a end in `out_a` and to its b end in `out_b` (the caller sums the two), so that one
+/// loop takes both ends at any offset; likewise the accumulators' change inflow k u.d(dv) to
+/// `change_a` and `change_b` (null: no dispersion).
 template <typename Real>
 inline __attribute__((always_inline)) void StiffnessRunsOf(
     const SpringRun* runs, int run_begin, int run_end, const Real* stiffness, const Real* inflow_a,
     const Real* inflow_b, const Real* ux, const Real* uy, const Real* uz, const Real* geometric,
-    const Real* const dv[3], Real* const out[3], Real* accumulator_change) {
-  RunScratch<Real> c;
-  alignas(64) Real rate[kMaxRunLength];
+    const Real* const dv[3], Real* const out_a[3], Real* const out_b[3], Real* change_a,
+    Real* change_b) {
   for (int r = run_begin; r < run_end; ++r) {
     const SpringRun& run = runs[r];
-    const int f = run.first;
-    StiffnessRun<Real>(run.count, run.offset, stiffness + f, ux + f, uy + f, uz + f, geometric + f,
-                       dv[0] + run.a0, dv[1] + run.a0, dv[2] + run.a0, &c, rate);
-    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
-    if (accumulator_change == nullptr) continue;
-    Real* __restrict ja = accumulator_change + run.a0;
-    Real* __restrict jb = ja + run.offset;
-    const Real* __restrict in_a = inflow_a + f;
-    const Real* __restrict in_b = inflow_b + f;
-    for (int i = 0; i < run.count; ++i) ja[i] += in_a[i] * rate[i];
-    for (int i = 0; i < run.count; ++i) jb[i] += in_b[i] * rate[i];
+    const int f = run.first, a0 = run.a0, b0 = run.a0 + run.offset;
+    if (change_a == nullptr) {
+      StiffnessRun<Real, false>(run.count, run.offset, stiffness + f, nullptr, nullptr, ux + f,
+                                uy + f, uz + f, geometric + f, dv[0] + a0, dv[1] + a0, dv[2] + a0,
+                                out_a[0] + a0, out_a[1] + a0, out_a[2] + a0, out_b[0] + b0,
+                                out_b[1] + b0, out_b[2] + b0, nullptr, nullptr);
+    } else {
+      StiffnessRun<Real, true>(
+          run.count, run.offset, stiffness + f, inflow_a + f, inflow_b + f, ux + f, uy + f, uz + f,
+          geometric + f, dv[0] + a0, dv[1] + a0, dv[2] + a0, out_a[0] + a0, out_a[1] + a0,
+          out_a[2] + a0, out_b[0] + b0, out_b[1] + b0, out_b[2] + b0, change_a + a0, change_b + b0);
+    }
   }
 }
 
-/// The dispersed part, in Real: dg per node.
+/// The dispersed part, in Real: dg per node; ends as in StiffnessRunsOf.
 template <typename Real>
 inline __attribute__((always_inline)) void DispersedStiffnessRunsOf(
     const SpringRun* runs, int run_begin, int run_end, const Real* outflow_a, const Real* outflow_b,
-    const Real* ux, const Real* uy, const Real* uz, const Real* dg, Real* const out[3]) {
-  RunScratch<Real> c;
+    const Real* ux, const Real* uy, const Real* uz, const Real* dg, Real* const out_a[3],
+    Real* const out_b[3]) {
   for (int r = run_begin; r < run_end; ++r) {
     const SpringRun& run = runs[r];
-    const Real* __restrict out_a = outflow_a + run.first;
-    const Real* __restrict out_b = outflow_b + run.first;
-    const Real* __restrict ga = dg + run.a0;
-    const Real* __restrict gb = ga + run.offset;
-    const Real* __restrict x = ux + run.first;
-    const Real* __restrict y = uy + run.first;
-    const Real* __restrict z = uz + run.first;
-    for (int i = 0; i < run.count; ++i) {
-      const Real change = out_a[i] * ga[i] + out_b[i] * gb[i];
-      c.x[i] = -change * x[i];
-      c.y[i] = -change * y[i];
-      c.z[i] = -change * z[i];
-    }
-    ApplyToEnds<Real>(run, c, out[0], out[1], out[2]);
+    const int f = run.first, a0 = run.a0, b0 = run.a0 + run.offset;
+    DispersedStiffnessRun<Real>(run.count, run.offset, outflow_a + f, outflow_b + f, ux + f, uy + f,
+                                uz + f, dg + a0, out_a[0] + a0, out_a[1] + a0, out_a[2] + a0,
+                                out_b[0] + b0, out_b[1] + b0, out_b[2] + b0);
   }
 }
 
