@@ -146,8 +146,7 @@ int ImplicitIntegrator::SolveKick(Body* body, double h, double t0, double c,
   Eigen::Matrix3Xd stiffness_product(3, n);
   const NodeArrayOperator apply = [&](const Eigen::Matrix3Xd& x, Eigen::Matrix3Xd* out) {
     body->evaluator.ApplyStiffness(x, &stiffness_product);
-    *out = c * stiffness_product;
-    *out += x * m.asDiagonal();
+    *out = c * stiffness_product + x * m.asDiagonal();
   };
   const MaskedPcgOptions solver = SolverOptions(world_.options, *body, h, projection.free);
   const Eigen::Matrix3Xd inverse_diagonal = InverseSystemDiagonal(body->evaluator, m, c);

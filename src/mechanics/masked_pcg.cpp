@@ -9,10 +9,33 @@ namespace {
 // Sum of the elementwise products (Frobenius inner product of two 3 x N arrays).
 double Dot(const Eigen::Matrix3Xd& a, const Eigen::Matrix3Xd& b) { return a.cwiseProduct(b).sum(); }
 
+// One CG update in one sweep: x += alpha p, residual -= alpha A p, and r = S residual.
+void Advance(double alpha, const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& product,
+             const DofProjection& projection, Eigen::Matrix3Xd* x, Eigen::Matrix3Xd* residual,
+             Eigen::Matrix3Xd* r) {
+  const Eigen::Index size = p.size();
+  const double* __restrict free = projection.free.data();
+  const double* __restrict direction = p.data();
+  const double* __restrict change = product.data();
+  double* __restrict solution = x->data();
+  double* __restrict full = residual->data();
+  double* __restrict projected = r->data();
+  for (Eigen::Index j = 0; j < size; ++j) {
+    solution[j] += alpha * direction[j];
+    full[j] -= alpha * change[j];
+    projected[j] = free[j] * full[j];
+  }
+  projection.ApplyNormals(r);
+}
+
 }  // namespace
 
 void DofProjection::Apply(Eigen::Matrix3Xd* a) const {
   *a = free.cwiseProduct(*a);
+  ApplyNormals(a);
+}
+
+void DofProjection::ApplyNormals(Eigen::Matrix3Xd* a) const {
   for (const NodeNormal& constraint : normals) {
     auto column = a->col(constraint.node);
     column -= constraint.normal.dot(column) * constraint.normal;
@@ -34,10 +57,11 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
                                const Eigen::Matrix3Xd& inverse_diagonal,
                                const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
                                Eigen::Matrix3Xd* residual) {
-  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range.
+  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range. The solve
+  // passes an r in that range, which D^-1 keeps free-masked: only the normals remain to apply.
   const NodeArrayPreconditioner diagonal = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z) {
     *z = inverse_diagonal.cwiseProduct(r);
-    projection.Apply(z);
+    projection.ApplyNormals(z);
   };
   return SolveMaskedPcg(apply, b, projection, diagonal, options, x, residual);
 }
@@ -75,10 +99,7 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
     const double curvature = Dot(p, product);
     if (!(curvature > 0.0)) break;  // A not positive along p (or not finite): give up
     const double alpha = rz / curvature;
-    *x += alpha * p;
-    *residual -= alpha * product;
-    r = *residual;
-    projection.Apply(&r);
+    Advance(alpha, p, product, projection, x, residual, &r);
     r_norm = r.norm();
     ++report.iterations;
     precondition(r, &z);

@@ -46,6 +46,8 @@ struct DofProjection {
 
   /// *a = S *a (3 x N).
   void Apply(Eigen::Matrix3Xd* a) const;
+  /// The normals' part of S alone: equal to Apply on an *a that `free` leaves unchanged.
+  void ApplyNormals(Eigen::Matrix3Xd* a) const;
 };
 
 /// z = B r for a preconditioner B, symmetric and positive on the range of the projection S of
