@@ -114,3 +114,6 @@ class ModelFileDirectoryTest : public ::testing::Test {
 };
 
 }  // namespace msm_sim::core
+
+// Expects `text` to contain `part`, printing `text` if it does not.
+#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)

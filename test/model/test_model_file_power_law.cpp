@@ -87,8 +87,6 @@ class PowerLawFileTest : public ModelFileDirectoryTest {
   }
 };
 
-#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
-
 TEST_F(PowerLawFileTest, RoundTripsThePowerLawAndItsForces) {
   const Model model = PowerLawCube();
   ASSERT_EQ(model.spring_law(), SpringLaw::kPower);

@@ -57,8 +57,6 @@ class SelfCalibrationFileTest : public ModelFileDirectoryTest {
   }
 };
 
-#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
-
 TEST_F(SelfCalibrationFileTest, RoundTripsTheCorrectionAndItsConditions) {
   const Model model = CalibratedModel();
   ASSERT_TRUE(model.self_calibration());

@@ -1,0 +1,263 @@
+// The single-precision spring loops on node shares: nodes rounded ahead, a first pass taken
+// ahead, shares cut at busy nodes, unstored forces, and two or four threads against one.
+#include <algorithm>
+#include <atomic>
+#include <numeric>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "mechanics/single_precision_kernels.h"
+#include "msm_sim/lattice/cubic_lattice_builder.h"
+#include "msm_sim/mechanics/force_evaluator.h"
+#include "perturbed_positions.h"
+#include "single_precision_checks.h"
+
+namespace msm_sim::core {
+namespace {
+
+// Nodes rounded ahead (ForceEvaluator::RoundNodes, in two ranges) and NodeStages::rounded give
+// the forces of the loops' own rounding relative to the same origin, to the bit, on one and two
+// threads, without calling `before`; with another origin the rounding, and so the forces, differ.
+TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRounding) {
+  const Model model = Block(0.45, 0.0035);
+  ASSERT_GE(model.num_nodes(), 1'000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 12);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 13);
+  const double origin[3] = {0.013, -0.002, 0.007};
+  const int n = model.num_nodes();
+  for (const int threads : {1, 2}) {
+    ForceEvaluator own(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator ahead(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    own.set_precision(SpringPrecision::kSingle);
+    ahead.set_precision(SpringPrecision::kSingle);
+    ASSERT_TRUE(ahead.RoundsNodes());
+    std::atomic<int> befores{0};
+    ForceEvaluator::NodeStages stages;
+    stages.before = [&](int, int, int) { ++befores; };
+    stages.after = [](int, int, int) {};
+    stages.origin = origin;
+    Eigen::Matrix3Xd expected, first, rounded;
+    own.SetForces(x, v, 1e-3, &expected, stages);
+    EXPECT_GT(befores.load(), 0);
+    ahead.SetForces(x, v, 1e-3, &first);  // sizes the node arrays (node 0 as origin)
+    EXPECT_NE(first, expected) << "the origin changes the rounding";
+    ahead.RoundNodes(x, &v, 0, n / 3, origin);
+    ahead.RoundNodes(x, &v, n / 3, n, origin);
+    befores = 0;
+    stages.rounded = true;
+    ahead.SetForces(x, v, 1e-3, &rounded, stages);
+    EXPECT_EQ(befores.load(), 0) << threads;
+    EXPECT_EQ(rounded, expected) << threads;
+  }
+}
+
+// NodeStages::rounds_ahead: the `after` stages round the nodes where the next evaluation will
+// find them, and the loops take that evaluation's first pass ahead, each share once the shares
+// its springs reach have rounded theirs (and, on shares cut unequal, the last share's part of
+// the passes after it, or of the plain pass). The next evaluation (NodeStages::rounded) gives
+// the forces of one at those positions from scratch, to the bit, on one and two threads and on
+// four shares shorter than a layer (whose springs reach two shares on); this one's forces are
+// not disturbed, and an evaluation without `rounded`, or with other dampers, after it does not
+// take what was taken ahead.
+TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces) {
+  CubicLatticeOptions slab;
+  slab.size = Eigen::Vector3d(0.4, 0.4, 0.02);
+  slab.lattice.spacing = 0.01;
+  const Model block = Block(0.45, 0.0035);
+  const Model plain = Block(0.25, 0.0035);  // no dispersion: the plain pass
+  ASSERT_EQ(plain.dispersion_fraction(), 0.0);
+  const Model thin = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), slab);
+  ASSERT_LT(thin.num_nodes() / 4, 40 * 40);  // a share is shorter than a layer
+  const double origin[3] = {0.013, -0.002, 0.007};
+  // Shares cut with the first 400 nodes busy (CutNodeShares): the last share is then longer than
+  // the first and takes its extra nodes' dispersion and second pass ahead too.
+  std::vector<NodeIndex> busy(400);
+  std::iota(busy.begin(), busy.end(), 0);
+  struct Case {
+    const Model* model;
+    int threads;
+    bool cut;
+  };
+  for (const Case& c : {Case{&block, 1, false}, Case{&block, 2, false}, Case{&block, 2, true},
+                        Case{&plain, 2, true}, Case{&thin, 4, false}, Case{&thin, 4, true}}) {
+    const Model* model = c.model;
+    const int threads = c.threads;
+    ASSERT_GE(model->num_nodes(), 1'000);
+    const int n = model->num_nodes();
+    const Eigen::Matrix3Xd x = Perturbed(model->rest_positions(), 2.5e-4, 30);
+    const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 31);
+    const Eigen::Matrix3Xd next_x = x + Perturbed(Eigen::Matrix3Xd::Zero(3, n), 1e-4, 32);
+    const Eigen::Matrix3Xd next_v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 33);
+    const Eigen::Matrix3Xd later_x = Perturbed(model->rest_positions(), 2.5e-4, 34);
+    ForceEvaluator own(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator ahead(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    own.set_precision(SpringPrecision::kSingle);
+    ahead.set_precision(SpringPrecision::kSingle);
+    if (c.cut) {
+      own.CutNodeShares(busy, 2.0);
+      ahead.CutNodeShares(busy, 2.0);
+      int first = 0, last = 0;
+      ahead.ForEachNodeShare([&](int share, int begin, int end) {
+        if (share == 0) first = end - begin;
+        if (share == threads - 1) last = end - begin;
+      });
+      ASSERT_GT(last, first + 100) << threads;
+    }
+    ForceEvaluator::NodeStages plain;
+    plain.before = [](int, int, int) {};
+    plain.after = [](int, int, int) {};
+    plain.origin = origin;
+    Eigen::Matrix3Xd expected, expected_next, expected_later, expected_other_dampers;
+    own.SetForces(x, v, 1e-3, &expected, plain);
+    own.SetForces(next_x, next_v, 1e-3, &expected_next, plain);
+    own.SetForces(later_x, v, 1e-3, &expected_later, plain);
+    own.SetForces(next_x, next_v, 2e-3, &expected_other_dampers, plain);
+
+    Eigen::Matrix3Xd now(3, n), unused, next, later;
+    std::atomic<int> rounded_nodes{0};
+    ForceEvaluator::NodeStages first = plain;
+    first.after_unstored = [&](int, int begin, int end, const float* f, long stride) {
+      for (int i = begin; i < end; ++i) {
+        for (int d = 0; d < 3; ++d) {
+          now(d, i) =
+              static_cast<double>(f[d * stride + i]) + static_cast<double>(f[(3 + d) * stride + i]);
+        }
+      }
+      ahead.RoundNodes(next_x, &next_v, begin, end, origin);
+      rounded_nodes += end - begin;
+    };
+    first.rounds_ahead = true;
+    ahead.SetForces(x, v, 1e-3, &unused, first);
+    ASSERT_EQ(rounded_nodes.load(), n);
+    EXPECT_EQ(now, expected) << threads;
+    ForceEvaluator::NodeStages second = plain;
+    second.rounded = true;
+    ahead.SetForces(next_x, next_v, 1e-3, &next, second);
+    EXPECT_EQ(next, expected_next) << threads;
+    EXPECT_NE(next, expected) << "the nodes moved";
+    ahead.SetForces(later_x, v, 1e-3, &later, plain);
+    EXPECT_EQ(later, expected_later) << threads;
+    // The part taken ahead had this evaluation's dampers: with others next, it is taken again.
+    ahead.SetForces(x, v, 1e-3, &unused, first);
+    Eigen::Matrix3Xd other_dampers;
+    ahead.SetForces(next_x, next_v, 2e-3, &other_dampers, second);
+    EXPECT_EQ(other_dampers, expected_other_dampers) << threads;
+  }
+}
+
+// CutNodeShares: shares of equal work, a busy node counting 1 + busy_work; without busy nodes
+// the equal shares of before. Every share keeps a node however the work falls.
+TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
+  const Model model = Block(0.45, 0.0035);
+  const int n = model.num_nodes();
+  ASSERT_GE(n, 1'000);
+  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, 3);
+  evaluator.set_precision(SpringPrecision::kSingle);
+  const auto bounds = [&] {
+    std::vector<int> ends;
+    evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+      EXPECT_EQ(begin, share == 0 ? 0 : ends.back()) << share;
+      EXPECT_LT(begin, end) << share;
+      ends.push_back(end);
+    });
+    return ends;
+  };
+  const std::vector<int> equal = bounds();
+  // Inner bounds rounded down to where the runs' aligned loads start.
+  const int align = SinglePrecisionSprings::kAlignment;
+  EXPECT_EQ(equal, (std::vector<int>{n / 3 / align * align, 2 * n / 3 / align * align, n}));
+  std::vector<NodeIndex> busy(300);
+  std::iota(busy.begin(), busy.end(), 100);  // nodes 100 .. 399
+  evaluator.CutNodeShares(busy, 2.0);
+  const std::vector<int> cut = bounds();
+  const double total = n + 2.0 * 300;
+  const auto work_before = [&](int node) { return node + 2.0 * std::clamp(node - 100, 0, 300); };
+  for (int t = 0; t < 2; ++t) {
+    EXPECT_EQ(cut[t] % align, 0) << t;
+    // Within one aligned step of nodes, busy ones, of the work's third.
+    EXPECT_LE(work_before(cut[t]), total * (t + 1) / 3 + 1.0) << t;
+    EXPECT_GT(work_before(cut[t] + align), total * (t + 1) / 3) << t;
+  }
+  EXPECT_EQ(cut[2], n);
+  evaluator.CutNodeShares({}, 2.0);
+  EXPECT_EQ(bounds(), equal);
+  std::vector<NodeIndex> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  evaluator.CutNodeShares(std::vector<NodeIndex>(all.begin(), all.begin() + 2), 1e9);
+  const std::vector<int> lopsided = bounds();  // the EXPECT_LTs above: no share left empty
+  EXPECT_EQ(lopsided[0], SinglePrecisionSprings::kAlignment);
+}
+
+// NodeStages::after_unstored gets the forces SetForces would have stored, to the bit, for every
+// node once (on one and two threads); `after` is not called and *forces is left as it was.
+TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
+  const Model model = Block(0.45, 0.0035);
+  ASSERT_GE(model.num_nodes(), 1'000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 10);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 11);
+  for (const int threads : {1, 2}) {
+    ForceEvaluator stored(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator unstored(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    stored.set_precision(SpringPrecision::kSingle);
+    unstored.set_precision(SpringPrecision::kSingle);
+    Eigen::Matrix3Xd expected;
+    stored.SetForces(x, v, 1e-3, &expected);
+    Eigen::Matrix3Xd summed = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
+    Eigen::Matrix3Xd untouched = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
+    std::atomic<int> afters{0}, sums{0};
+    ForceEvaluator::NodeStages stages;
+    stages.before = [](int, int, int) {};
+    stages.after = [&](int, int, int) { ++afters; };
+    stages.after_unstored = [&](int, int begin, int end, const float* f, long stride) {
+      for (int i = begin; i < end; ++i) {
+        for (int d = 0; d < 3; ++d) {
+          summed(d, i) =
+              static_cast<double>(f[d * stride + i]) + static_cast<double>(f[(3 + d) * stride + i]);
+        }
+      }
+      sums += end - begin;
+    };
+    unstored.SetForces(x, v, 1e-3, &untouched, stages);
+    EXPECT_EQ(sums.load(), model.num_nodes()) << threads;
+    EXPECT_EQ(afters.load(), 0) << threads;
+    EXPECT_EQ(summed, expected) << threads;
+    EXPECT_TRUE((untouched.array() == 7.0).all()) << threads;
+  }
+}
+
+TEST(SinglePrecisionEvaluator, TwoThreadsAgreeAndRepeat) {
+  // Above the evaluator's threshold for threads (1,000 nodes).
+  const Model model = Block(0.45, 0.0035);
+  ASSERT_GE(model.num_nodes(), 1'000);
+  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 6);
+  const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 7);
+  const Eigen::Matrix3Xd two = Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 2);
+  EXPECT_EQ(two, Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 2));
+  ExpectClose(model, two, Forces(model, SpringPrecision::kDouble, x, v, 1e-3));
+}
+
+// A slab three nodes thick in four node shares: each share is shorter than a layer, so a share's
+// b ends overflow past the next share into the one after it, and the overflows of two earlier
+// shares meet on the same nodes (SingleShare). Four shares run on a machine of any size (the
+// pool's caller runs those beyond its workers).
+TEST(SinglePrecisionEvaluator, SharesShorterThanTheLongestOffsetAgree) {
+  CubicLatticeOptions options;
+  options.size = Eigen::Vector3d(0.4, 0.4, 0.02);
+  options.lattice.spacing = 0.01;
+  for (const double poisson : {0.25, 0.45}) {
+    const Model model =
+        BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1000.0), options);
+    const int layer = 40 * 40;
+    ASSERT_GE(model.num_nodes(), 1'000);
+    ASSERT_LT(model.num_nodes() / 4, layer);
+    const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 8);
+    const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 9);
+    const Eigen::Matrix3Xd four = Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 4);
+    EXPECT_EQ(four, Forces(model, SpringPrecision::kSingle, x, v, 1e-3, 4));
+    ExpectClose(model, four, Forces(model, SpringPrecision::kDouble, x, v, 1e-3));
+  }
+}
+
+}  // namespace
+}  // namespace msm_sim::core
