@@ -149,73 +149,15 @@ class BulletScene {
     const MsmScene& msm = Msm();
     const Model& model = *msm.model;
     step = msm.step;
-    const Eigen::Matrix3Xd& x = model.rest_positions();
-
     world_ = std::make_unique<btSoftRigidDynamicsWorld>(&dispatcher_, &broadphase_, &solver_,
                                                         &configuration_, &soft_solver_);
     const btVector3 gravity(0, 0, static_cast<btScalar>(kGravity));
     world_->setGravity(gravity);
     world_->getWorldInfo().m_gravity = gravity;  // soft bodies read their own copy
-
-    // The ground: a static box whose top face is msm_sim's ground plane (see the header).
-    constexpr double kHalfExtent = 10.0, kHalfThickness = 1.0;
-    ground_shape_ =
-        std::make_unique<btBoxShape>(btVector3(kHalfExtent, kHalfExtent, kHalfThickness));
-    ground_shape_->setMargin(0);
-    btTransform ground_pose;
-    ground_pose.setIdentity();
-    ground_pose.setOrigin(btVector3(static_cast<btScalar>(x.row(0).mean()),
-                                    static_cast<btScalar>(x.row(1).mean()),
-                                    static_cast<btScalar>(msm.ground_height - kHalfThickness)));
-    btRigidBody::btRigidBodyConstructionInfo ground_info(0, nullptr, ground_shape_.get());
-    ground_info.m_startWorldTransform = ground_pose;
-    ground_info.m_friction = 0.5;
-    ground_ = std::make_unique<btRigidBody>(ground_info);
-    world_->addRigidBody(ground_.get());
-
-    // Nodes at the model's rest positions, with its masses.
-    std::vector<btVector3> positions(model.num_nodes());
-    for (int i = 0; i < model.num_nodes(); ++i) {
-      positions[i] = btVector3(static_cast<btScalar>(x(0, i)), static_cast<btScalar>(x(1, i)),
-                               static_cast<btScalar>(x(2, i)));
-    }
-    body_ = std::make_unique<btSoftBody>(&world_->getWorldInfo(), model.num_nodes(),
-                                         positions.data(), nullptr);
-    for (int i = 0; i < model.num_nodes(); ++i) {
-      body_->setMass(i, static_cast<btScalar>(model.masses()[i]));
-    }
-    // One link per spring.
-    const Eigen::VectorXd& m = model.masses();
-    std::map<btScalar, btSoftBody::Material*> materials;
-    for (int s = 0; s < model.num_springs(); ++s) {
-      const int a = model.spring_node_a()[s], b = model.spring_node_b()[s];
-      const double w = 1.0 / m[a] + 1.0 / m[b];
-      const double stiffness = w * model.spring_stiffness()[s] * step * step;
-      const btScalar k_lst = static_cast<btScalar>(stiffness / (1.0 + stiffness));
-      btSoftBody::Material*& material = materials[k_lst];
-      if (material == nullptr) {
-        material = body_->appendMaterial();
-        material->m_kLST = k_lst;
-      }
-      body_->appendLink(a, b, material);
-      const double distance = (x.col(b) - x.col(a)).norm();
-      const double rest_length = model.spring_rest_length()[s];
-      if (std::abs(distance - rest_length) > 1e-9 * rest_length) same_rest_lengths = false;
-    }
-    num_materials = static_cast<int>(materials.size());
-    k_lst_min = materials.begin()->first;
-    k_lst_max = materials.rbegin()->first;
-    // One margin for all nodes: the bottom layer rests at msm_sim's largest bottom radius. The
-    // constructor put every node in the node tree with the default margin (0.25 m), and Bullet
-    // only refits a leaf that no longer contains its node's volume: with leaves that fat, every
-    // node of the block would be tested against the ground at every step. Rebuild the tree.
-    const btScalar margin = static_cast<btScalar>(x.row(2).minCoeff() - msm.ground_height);
-    body_->getCollisionShape()->setMargin(margin);
-    body_->m_ndbvt.clear();
-    for (int i = 0; i < body_->m_nodes.size(); ++i) {
-      btSoftBody::Node& node = body_->m_nodes[i];
-      node.m_leaf = body_->m_ndbvt.insert(btDbvtVolume::FromCR(node.m_x, margin), &node);
-    }
+    AddGround(model.rest_positions(), msm.ground_height);
+    AddNodes(model);
+    AppendLinks(model);
+    FitMargin(model.rest_positions(), msm.ground_height);
     body_->m_cfg.kDF = 1;  // x the ground's 0.5 = msm_sim's default friction coefficient
     // Bullet's defaults, stated: collisions = SDF_RS, piterations = 1, viterations = 0.
     world_->addSoftBody(body_.get());
@@ -240,6 +182,78 @@ class BulletScene {
   btScalar k_lst_min = 0, k_lst_max = 0;
 
  private:
+  // The ground: a static box whose top face is msm_sim's ground plane (see the header).
+  void AddGround(const Eigen::Matrix3Xd& x, double ground_height) {
+    constexpr double kHalfExtent = 10.0, kHalfThickness = 1.0;
+    ground_shape_ =
+        std::make_unique<btBoxShape>(btVector3(kHalfExtent, kHalfExtent, kHalfThickness));
+    ground_shape_->setMargin(0);
+    btTransform ground_pose;
+    ground_pose.setIdentity();
+    ground_pose.setOrigin(btVector3(static_cast<btScalar>(x.row(0).mean()),
+                                    static_cast<btScalar>(x.row(1).mean()),
+                                    static_cast<btScalar>(ground_height - kHalfThickness)));
+    btRigidBody::btRigidBodyConstructionInfo ground_info(0, nullptr, ground_shape_.get());
+    ground_info.m_startWorldTransform = ground_pose;
+    ground_info.m_friction = 0.5;
+    ground_ = std::make_unique<btRigidBody>(ground_info);
+    world_->addRigidBody(ground_.get());
+  }
+
+  // The soft body: nodes at the model's rest positions, with its masses.
+  void AddNodes(const Model& model) {
+    const Eigen::Matrix3Xd& x = model.rest_positions();
+    std::vector<btVector3> positions(model.num_nodes());
+    for (int i = 0; i < model.num_nodes(); ++i) {
+      positions[i] = btVector3(static_cast<btScalar>(x(0, i)), static_cast<btScalar>(x(1, i)),
+                               static_cast<btScalar>(x(2, i)));
+    }
+    body_ = std::make_unique<btSoftBody>(&world_->getWorldInfo(), model.num_nodes(),
+                                         positions.data(), nullptr);
+    for (int i = 0; i < model.num_nodes(); ++i) {
+      body_->setMass(i, static_cast<btScalar>(model.masses()[i]));
+    }
+  }
+
+  // One link per spring, its kLST mapped from k as the header says; one material per kLST.
+  void AppendLinks(const Model& model) {
+    const Eigen::Matrix3Xd& x = model.rest_positions();
+    const Eigen::VectorXd& m = model.masses();
+    std::map<btScalar, btSoftBody::Material*> materials;
+    for (int s = 0; s < model.num_springs(); ++s) {
+      const int a = model.spring_node_a()[s], b = model.spring_node_b()[s];
+      const double w = 1.0 / m[a] + 1.0 / m[b];
+      const double stiffness = w * model.spring_stiffness()[s] * step * step;
+      const btScalar k_lst = static_cast<btScalar>(stiffness / (1.0 + stiffness));
+      btSoftBody::Material*& material = materials[k_lst];
+      if (material == nullptr) {
+        material = body_->appendMaterial();
+        material->m_kLST = k_lst;
+      }
+      body_->appendLink(a, b, material);
+      const double distance = (x.col(b) - x.col(a)).norm();
+      const double rest_length = model.spring_rest_length()[s];
+      if (std::abs(distance - rest_length) > 1e-9 * rest_length) same_rest_lengths = false;
+    }
+    num_materials = static_cast<int>(materials.size());
+    k_lst_min = materials.begin()->first;
+    k_lst_max = materials.rbegin()->first;
+  }
+
+  // One margin for all nodes: the bottom layer rests at msm_sim's largest bottom radius. The
+  // constructor put every node in the node tree with the default margin (0.25 m), and Bullet
+  // only refits a leaf that no longer contains its node's volume: with leaves that fat, every
+  // node of the block would be tested against the ground at every step. Rebuild the tree.
+  void FitMargin(const Eigen::Matrix3Xd& x, double ground_height) {
+    const btScalar margin = static_cast<btScalar>(x.row(2).minCoeff() - ground_height);
+    body_->getCollisionShape()->setMargin(margin);
+    body_->m_ndbvt.clear();
+    for (int i = 0; i < body_->m_nodes.size(); ++i) {
+      btSoftBody::Node& node = body_->m_nodes[i];
+      node.m_leaf = body_->m_ndbvt.insert(btDbvtVolume::FromCR(node.m_x, margin), &node);
+    }
+  }
+
   btSoftBodyRigidBodyCollisionConfiguration configuration_;
   btCollisionDispatcher dispatcher_{&configuration_};
   btDbvtBroadphase broadphase_;

@@ -64,36 +64,33 @@ double InvertedVerticalSprings(const Model& model, const Eigen::Matrix3Xd& x) {
   return static_cast<double>(inverted) / vertical;
 }
 
-// The cube (E = 100 kPa, rho = 1100, no gravity) on a rigid support, its bottom layer clamped,
-// under a rigid plate (friction 0.5): the plate comes down at 0.1 m/s until the top node
-// centres are at 30 % of their rest height above the clamped layer's, stays 0.2 s, then lifts
-// at 1 m/s out of reach; the block then has 1 s.
-Squeeze SqueezeAndRelease(double poisson, SpringLaw law, double orientation_threshold = 0.0,
-                          Integrator integrator = Integrator::kExplicit) {
+// The cube of kSide at kSpacing (E = 100 kPa, rho = 1100) with springs of `law`.
+std::shared_ptr<const Model> Cube(double poisson, SpringLaw law) {
   CubicLatticeOptions lattice_options;
   lattice_options.size = Eigen::Vector3d::Constant(kSide);
   lattice_options.lattice.spacing = kSpacing;
   lattice_options.lattice.spring_law = law;
-  const auto model = std::make_shared<const Model>(
+  return std::make_shared<const Model>(
       BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options));
+}
+
+// No gravity, a third of the usual step safety, `integrator`.
+WorldOptions SqueezeWorldOptions(Integrator integrator) {
   WorldOptions options;
   options.gravity.setZero();
   // The step is stable for carrier springs down to 70 % of their length; at 30 % the tangent
   // stiffness is (0.7 / 0.3)^2 = 5.4 times that: a third of the usual safety keeps it stable.
   options.time_step_safety = 0.25;
   options.integrator = integrator;
-  World world(options);
-  BodyOptions body;
-  body.damping_beta = 1e-3;  // s: rings down well within the second after the release
-  body.orientation_threshold = orientation_threshold;
-  const OrientationBarrier corners(*model, 0.0, 0.5);  // to measure J only
-  const int id = world.AddBody("block", model, body);
-  const double bottom = model->rest_positions().row(2).minCoeff();
-  const double top = model->rest_positions().row(2).maxCoeff();
+  return options;
+}
+
+// Clamps body `id`'s bottom layer, adds the support under it and the plate; returns the plate.
+Collider& AddSupportAndPlate(World& world, int id, const Model& model, double bottom, double top) {
   world.AddKinematicGroup(
       id,
       KinematicGroup{"base",
-                     NodesInHalfSpace(*model, Eigen::Vector3d(0.0, 0.0, bottom + 0.25 * kSpacing),
+                     NodesInHalfSpace(model, Eigen::Vector3d(0.0, 0.0, bottom + 0.25 * kSpacing),
                                       Eigen::Vector3d::UnitZ()),
                      {}});
   Collider support;  // the half-space z <= 0, the block's bottom face
@@ -104,7 +101,40 @@ Squeeze SqueezeAndRelease(double poisson, SpringLaw law, double orientation_thre
   plate.name = "plate";
   plate.pose = Eigen::Translation3d(0.5 * kSide, 0.5 * kSide, top + 0.001) *
                Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX());
-  Collider& moving = world.collider(world.AddCollider(plate));
+  return world.collider(world.AddCollider(plate));
+}
+
+// Prints what a squeeze of the cube of rest height `height` did.
+void PrintSqueeze(double poisson, SpringLaw law, double orientation_threshold, double height,
+                  const Squeeze& result) {
+  std::printf(
+      "  nu %.2f, %s springs, orientation threshold %.1f: held at %.1f %% of the height; shortest "
+      "spring %.1f %% of its rest "
+      "length, smallest corner volume ratio %.2f; 1 s after the release the farthest node is %.2f "
+      "%% of the block's size (%.2g m) from rest "
+      "and %.0f %% of the vertical springs point down; %d rejected steps\n",
+      poisson, law == SpringLaw::kNonlinear ? "carrier" : "linear", orientation_threshold,
+      100.0 * result.height_held / height, 100.0 * result.shortest, result.smallest_ratio,
+      100.0 * result.farthest_after / kSide, result.farthest_after, 100.0 * result.inverted_after,
+      result.rejected_steps);
+}
+
+// The cube (E = 100 kPa, rho = 1100, no gravity) on a rigid support, its bottom layer clamped,
+// under a rigid plate (friction 0.5): the plate comes down at 0.1 m/s until the top node
+// centres are at 30 % of their rest height above the clamped layer's, stays 0.2 s, then lifts
+// at 1 m/s out of reach; the block then has 1 s.
+Squeeze SqueezeAndRelease(double poisson, SpringLaw law, double orientation_threshold = 0.0,
+                          Integrator integrator = Integrator::kExplicit) {
+  const auto model = Cube(poisson, law);
+  World world(SqueezeWorldOptions(integrator));
+  BodyOptions body;
+  body.damping_beta = 1e-3;  // s: rings down well within the second after the release
+  body.orientation_threshold = orientation_threshold;
+  const OrientationBarrier corners(*model, 0.0, 0.5);  // to measure J only
+  const int id = world.AddBody("block", model, body);
+  const double bottom = model->rest_positions().row(2).minCoeff();
+  const double top = model->rest_positions().row(2).maxCoeff();
+  Collider& moving = AddSupportAndPlate(world, id, *model, bottom, top);
   const double radius = world.border(id).radii.front();  // the plate meets collision spheres
   const double pressed = bottom + 0.3 * (top - bottom) + radius;
   const double dt = 1e-3;
@@ -137,16 +167,7 @@ Squeeze SqueezeAndRelease(double poisson, SpringLaw law, double orientation_thre
   const Eigen::Matrix3Xd& x = world.state(id).positions;
   result.farthest_after = (x - model->rest_positions()).colwise().norm().maxCoeff();
   result.inverted_after = InvertedVerticalSprings(*model, x);
-  std::printf(
-      "  nu %.2f, %s springs, orientation threshold %.1f: held at %.1f %% of the height; shortest "
-      "spring %.1f %% of its rest "
-      "length, smallest corner volume ratio %.2f; 1 s after the release the farthest node is %.2f "
-      "%% of the block's size (%.2g m) from rest "
-      "and %.0f %% of the vertical springs point down; %d rejected steps\n",
-      poisson, law == SpringLaw::kNonlinear ? "carrier" : "linear", orientation_threshold,
-      100.0 * result.height_held / (top - bottom), 100.0 * result.shortest, result.smallest_ratio,
-      100.0 * result.farthest_after / kSide, result.farthest_after, 100.0 * result.inverted_after,
-      result.rejected_steps);
+  PrintSqueeze(poisson, law, orientation_threshold, top - bottom, result);
   return result;
 }
 

@@ -288,6 +288,38 @@ TEST(Contacts, RestingBlockLoadsTheGroundWithItsWeightThroughItsCentreOfMass) {
   EXPECT_LT((torque - com.cross(force)).norm(), 0.01 * com.norm() * weight);
 }
 
+// The nodes of `model` below `height` at rest, as a kinematic group.
+KinematicGroup ClampBelow(const Model& model, double height) {
+  KinematicGroup clamp{"clamp", {}, {}};
+  for (NodeIndex i = 0; i < model.num_nodes(); ++i) {
+    if (model.rest_positions()(2, i) < height) clamp.nodes.push_back(i);
+  }
+  return clamp;
+}
+
+// A 4 cm finger touching the top nodes' spheres of `body` at rest, moving down at 2 cm/s.
+Collider FingerAbove(const World& world, int body, const Model& model) {
+  Collider sphere;
+  sphere.name = "finger";
+  sphere.shape = ColliderShape::Sphere(0.04);
+  sphere.friction = 0.3;
+  double top = 0.0;
+  for (std::size_t k = 0; k < world.border(body).nodes.size(); ++k) {
+    top = std::max(
+        top, model.rest_positions()(2, world.border(body).nodes[k]) + world.border(body).radii[k]);
+  }
+  sphere.pose.translation() = Eigen::Vector3d(0.1, 0.1, top + 0.04);
+  sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.02);
+  return sphere;
+}
+
+// Prints the pressing forces (N), one a window.
+void PrintPressing(const std::vector<double>& pressing) {
+  std::printf("  pressing force per mm of indentation:");
+  for (const double f : pressing) std::printf(" %.2f", f);
+  std::printf(" N\n");
+}
+
 // A kinematic sphere pressed at constant speed into a block clamped at its base, then dragged.
 TEST(Contacts, PressedSphereForceGrowsWithIndentationAndFrictionIsBounded) {
   World world;
@@ -296,24 +328,8 @@ TEST(Contacts, PressedSphereForceGrowsWithIndentationAndFrictionIsBounded) {
   options.friction = 0.3;
   const auto block = Block(0.2, 0.02);
   const int body = world.AddBody("block", block, options);
-  KinematicGroup clamp{"clamp", {}, {}};
-  for (NodeIndex i = 0; i < block->num_nodes(); ++i) {
-    if (block->rest_positions()(2, i) < 0.02) clamp.nodes.push_back(i);
-  }
-  world.AddKinematicGroup(body, clamp);
-  Collider sphere;
-  sphere.name = "finger";
-  sphere.shape = ColliderShape::Sphere(0.04);
-  sphere.friction = 0.3;
-  // Touching the top nodes' spheres, moving down at 2 cm/s.
-  double top = 0.0;
-  for (std::size_t k = 0; k < world.border(body).nodes.size(); ++k) {
-    top = std::max(
-        top, block->rest_positions()(2, world.border(body).nodes[k]) + world.border(body).radii[k]);
-  }
-  sphere.pose.translation() = Eigen::Vector3d(0.1, 0.1, top + 0.04);
-  sphere.linear_velocity = Eigen::Vector3d(0.0, 0.0, -0.02);
-  const int finger = world.AddCollider(sphere);
+  world.AddKinematicGroup(body, ClampBelow(*block, 0.02));
+  const int finger = world.AddCollider(FingerAbove(world, body, *block));
   const double dt = 1e-3;
   // Pressing for 0.6 s (12 mm), force averaged over 50 ms windows (1 mm of indentation).
   std::vector<double> pressing;
@@ -325,9 +341,7 @@ TEST(Contacts, PressedSphereForceGrowsWithIndentationAndFrictionIsBounded) {
     }
     pressing.push_back(fz);  // > 0: the block pushes the finger up
   }
-  std::printf("  pressing force per mm of indentation:");
-  for (const double f : pressing) std::printf(" %.2f", f);
-  std::printf(" N\n");
+  PrintPressing(pressing);
   // The block first sags under its weight away from the finger; from first contact on, every
   // millimetre of indentation pushes back harder.
   std::size_t first_contact = 0;

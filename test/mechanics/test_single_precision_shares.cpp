@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <numeric>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -52,6 +53,91 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
   }
 }
 
+// Sums the two halves of after_unstored's forces `f` of nodes [begin, end) into *forces.
+void SumUnstored(int begin, int end, const float* f, long stride, Eigen::Matrix3Xd* forces) {
+  for (int i = begin; i < end; ++i) {
+    for (int d = 0; d < 3; ++d) {
+      (*forces)(d, i) =
+          static_cast<double>(f[d * stride + i]) + static_cast<double>(f[(3 + d) * stride + i]);
+    }
+  }
+}
+
+// A slab three nodes thick (nu = 0.45) whose four node shares are each shorter than a layer.
+Model ThinSlab() {
+  CubicLatticeOptions slab;
+  slab.size = Eigen::Vector3d(0.4, 0.4, 0.02);
+  slab.lattice.spacing = 0.01;
+  return BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), slab);
+}
+
+// Positions and velocities of one evaluation and of the next, and positions of a later one.
+struct Motion {
+  Eigen::Matrix3Xd x, v, next_x, next_v, later_x;
+};
+
+// The perturbed motion of `model` (seeds 30 to 34): the next positions 0.1 mm on from x.
+Motion PerturbedMotion(const Model& model) {
+  const int n = model.num_nodes();
+  Motion m;
+  m.x = Perturbed(model.rest_positions(), 2.5e-4, 30);
+  m.v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 31);
+  m.next_x = m.x + Perturbed(Eigen::Matrix3Xd::Zero(3, n), 1e-4, 32);
+  m.next_v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 33);
+  m.later_x = Perturbed(model.rest_positions(), 2.5e-4, 34);
+  return m;
+}
+
+// Stages that do nothing, rounding relative to `origin`.
+ForceEvaluator::NodeStages PlainStages(const double origin[3]) {
+  ForceEvaluator::NodeStages plain;
+  plain.before = [](int, int, int) {};
+  plain.after = [](int, int, int) {};
+  plain.origin = origin;
+  return plain;
+}
+
+// Forces from scratch at each state of a Motion, and at the next with other dampers.
+struct ExpectedForces {
+  Eigen::Matrix3Xd now, next, later, other_dampers;
+};
+
+// Evaluates ExpectedForces with `own`, in that order.
+ExpectedForces FromScratch(ForceEvaluator& own, const Motion& m,
+                           const ForceEvaluator::NodeStages& plain) {
+  ExpectedForces e;
+  own.SetForces(m.x, m.v, 1e-3, &e.now, plain);
+  own.SetForces(m.next_x, m.next_v, 1e-3, &e.next, plain);
+  own.SetForces(m.later_x, m.v, 1e-3, &e.later, plain);
+  own.SetForces(m.next_x, m.next_v, 2e-3, &e.other_dampers, plain);
+  return e;
+}
+
+// The numbers of nodes of the first and of the last of `threads` node shares.
+std::pair<int, int> FirstAndLastShare(ForceEvaluator& evaluator, int threads) {
+  int first = 0, last = 0;
+  evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+    if (share == 0) first = end - begin;
+    if (share == threads - 1) last = end - begin;
+  });
+  return {first, last};
+}
+
+// `plain` rounding m's next state ahead into *ahead, summing into *now, counting rounded nodes.
+ForceEvaluator::NodeStages RoundingAhead(const ForceEvaluator::NodeStages& plain,
+                                         ForceEvaluator* ahead, const Motion* m,
+                                         Eigen::Matrix3Xd* now, std::atomic<int>* rounded_nodes) {
+  ForceEvaluator::NodeStages first = plain;
+  const double* origin = plain.origin;
+  first.after_unstored = [=](int, int begin, int end, const float* f, long stride) {
+    SumUnstored(begin, end, f, stride, now);
+    ahead->RoundNodes(m->next_x, &m->next_v, begin, end, origin);
+    *rounded_nodes += end - begin;
+  };
+  first.rounds_ahead = true;
+  return first;
+}
+
 // NodeStages::rounds_ahead: the `after` stages round the nodes where the next evaluation will
 // find them, and the loops take that evaluation's first pass ahead, each share once the shares
 // its springs reach have rounded theirs (and, on shares cut unequal, the last share's part of
@@ -61,13 +147,10 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
 // not disturbed, and an evaluation without `rounded`, or with other dampers, after it does not
 // take what was taken ahead.
 TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces) {
-  CubicLatticeOptions slab;
-  slab.size = Eigen::Vector3d(0.4, 0.4, 0.02);
-  slab.lattice.spacing = 0.01;
   const Model block = Block(0.45, 0.0035);
   const Model plain = Block(0.25, 0.0035);  // no dispersion: the plain pass
   ASSERT_EQ(plain.dispersion_fraction(), 0.0);
-  const Model thin = BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1000.0), slab);
+  const Model thin = ThinSlab();
   ASSERT_LT(thin.num_nodes() / 4, 40 * 40);  // a share is shorter than a layer
   const double origin[3] = {0.013, -0.002, 0.007};
   // Shares cut with the first 400 nodes busy (CutNodeShares): the last share is then longer than
@@ -85,11 +168,7 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     const int threads = c.threads;
     ASSERT_GE(model->num_nodes(), 1'000);
     const int n = model->num_nodes();
-    const Eigen::Matrix3Xd x = Perturbed(model->rest_positions(), 2.5e-4, 30);
-    const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 31);
-    const Eigen::Matrix3Xd next_x = x + Perturbed(Eigen::Matrix3Xd::Zero(3, n), 1e-4, 32);
-    const Eigen::Matrix3Xd next_v = Perturbed(Eigen::Matrix3Xd::Zero(3, n), 0.1, 33);
-    const Eigen::Matrix3Xd later_x = Perturbed(model->rest_positions(), 2.5e-4, 34);
+    const Motion m = PerturbedMotion(*model);
     ForceEvaluator own(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
     ForceEvaluator ahead(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
     own.set_precision(SpringPrecision::kSingle);
@@ -97,52 +176,30 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     if (c.cut) {
       own.CutNodeShares(busy, 2.0);
       ahead.CutNodeShares(busy, 2.0);
-      int first = 0, last = 0;
-      ahead.ForEachNodeShare([&](int share, int begin, int end) {
-        if (share == 0) first = end - begin;
-        if (share == threads - 1) last = end - begin;
-      });
+      const auto [first, last] = FirstAndLastShare(ahead, threads);
       ASSERT_GT(last, first + 100) << threads;
     }
-    ForceEvaluator::NodeStages plain;
-    plain.before = [](int, int, int) {};
-    plain.after = [](int, int, int) {};
-    plain.origin = origin;
-    Eigen::Matrix3Xd expected, expected_next, expected_later, expected_other_dampers;
-    own.SetForces(x, v, 1e-3, &expected, plain);
-    own.SetForces(next_x, next_v, 1e-3, &expected_next, plain);
-    own.SetForces(later_x, v, 1e-3, &expected_later, plain);
-    own.SetForces(next_x, next_v, 2e-3, &expected_other_dampers, plain);
+    const ForceEvaluator::NodeStages plain = PlainStages(origin);
+    const ExpectedForces expected = FromScratch(own, m, plain);
 
     Eigen::Matrix3Xd now(3, n), unused, next, later;
     std::atomic<int> rounded_nodes{0};
-    ForceEvaluator::NodeStages first = plain;
-    first.after_unstored = [&](int, int begin, int end, const float* f, long stride) {
-      for (int i = begin; i < end; ++i) {
-        for (int d = 0; d < 3; ++d) {
-          now(d, i) =
-              static_cast<double>(f[d * stride + i]) + static_cast<double>(f[(3 + d) * stride + i]);
-        }
-      }
-      ahead.RoundNodes(next_x, &next_v, begin, end, origin);
-      rounded_nodes += end - begin;
-    };
-    first.rounds_ahead = true;
-    ahead.SetForces(x, v, 1e-3, &unused, first);
+    const ForceEvaluator::NodeStages first = RoundingAhead(plain, &ahead, &m, &now, &rounded_nodes);
+    ahead.SetForces(m.x, m.v, 1e-3, &unused, first);
     ASSERT_EQ(rounded_nodes.load(), n);
-    EXPECT_EQ(now, expected) << threads;
+    EXPECT_EQ(now, expected.now) << threads;
     ForceEvaluator::NodeStages second = plain;
     second.rounded = true;
-    ahead.SetForces(next_x, next_v, 1e-3, &next, second);
-    EXPECT_EQ(next, expected_next) << threads;
-    EXPECT_NE(next, expected) << "the nodes moved";
-    ahead.SetForces(later_x, v, 1e-3, &later, plain);
-    EXPECT_EQ(later, expected_later) << threads;
+    ahead.SetForces(m.next_x, m.next_v, 1e-3, &next, second);
+    EXPECT_EQ(next, expected.next) << threads;
+    EXPECT_NE(next, expected.now) << "the nodes moved";
+    ahead.SetForces(m.later_x, m.v, 1e-3, &later, plain);
+    EXPECT_EQ(later, expected.later) << threads;
     // The part taken ahead had this evaluation's dampers: with others next, it is taken again.
-    ahead.SetForces(x, v, 1e-3, &unused, first);
+    ahead.SetForces(m.x, m.v, 1e-3, &unused, first);
     Eigen::Matrix3Xd other_dampers;
-    ahead.SetForces(next_x, next_v, 2e-3, &other_dampers, second);
-    EXPECT_EQ(other_dampers, expected_other_dampers) << threads;
+    ahead.SetForces(m.next_x, m.next_v, 2e-3, &other_dampers, second);
+    EXPECT_EQ(other_dampers, expected.other_dampers) << threads;
   }
 }
 

@@ -231,20 +231,9 @@ TEST_F(ModelFileTest, EveryFlippedByteThrows) {
   EXPECT_CONTAINS(LoadError(damaged), "checksum mismatch (file corrupt)");
 }
 
-// Files with a valid checksum but invalid content: what a buggy or malicious writer produces.
-TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
-  const Bytes good = Saved(BaudetModel(0.1));
-  const std::uint32_t nodes = GetU32(good, kCountsOffset);
-  const std::uint32_t springs = GetU32(good, kCountsOffset + 4);
-  const std::size_t springs_offset = kNodesOffset + 40 * std::size_t{nodes};
-  const std::size_t corrections_offset = springs_offset + 40 * std::size_t{springs};
-  auto edit = [&](auto change) {
-    Bytes bytes = good;
-    change(&bytes);
-    Reseal(&bytes);
-    return LoadError(bytes);
-  };
-
+// Invalid header and node fields, each refused with its reason (`edit`: the test's lambda).
+template <typename Edit>
+void ExpectInvalidHeaderAndNodesRefused(const Edit& edit) {
   // Absurd counts are refused before anything is allocated.
   EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset, 0x7fffffff); }), "truncated");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutU32(b, kCountsOffset + 4, 0xffffffff); }),
@@ -262,6 +251,23 @@ TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
                   "node 1 has a non-finite position");
   EXPECT_CONTAINS(edit([](Bytes* b) { PutF64(b, kNodesOffset + 32, -1.0); }),
                   "node 0 has inset -1");
+}
+
+// Files with a valid checksum but invalid content: what a buggy or malicious writer produces.
+TEST_F(ModelFileTest, RejectsInvalidContentWithAValidChecksum) {
+  const Bytes good = Saved(BaudetModel(0.1));
+  const std::uint32_t nodes = GetU32(good, kCountsOffset);
+  const std::uint32_t springs = GetU32(good, kCountsOffset + 4);
+  const std::size_t springs_offset = kNodesOffset + 40 * std::size_t{nodes};
+  const std::size_t corrections_offset = springs_offset + 40 * std::size_t{springs};
+  auto edit = [&](auto change) {
+    Bytes bytes = good;
+    change(&bytes);
+    Reseal(&bytes);
+    return LoadError(bytes);
+  };
+
+  ExpectInvalidHeaderAndNodesRefused(edit);
 
   const std::uint32_t a0 = GetU32(good, springs_offset);
   const std::uint32_t b0 = GetU32(good, springs_offset + 4);

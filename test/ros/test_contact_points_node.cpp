@@ -80,6 +80,27 @@ void CheckCloud(const sensor_msgs::PointCloud2& cloud, const std::string& frame,
   }
 }
 
+// Sends the demo finger's joints to slide_x = 0, slide_z = `z` (m) through /joint_states.
+void PublishJoints(ros::Publisher& joints, double z) {
+  sensor_msgs::JointState message;
+  message.header.stamp = ros::Time::now();
+  message.name = {"slide_x", "slide_z"};
+  message.position = {0.0, z};
+  joints.publish(message);
+}
+
+// Checks the clouds from message `from` on (CheckCloud, in `frame`); returns the most points.
+std::size_t MostPointsOfCheckedClouds(const Clouds& clouds, std::size_t from,
+                                      const std::string& frame) {
+  std::size_t points = 0;
+  for (std::size_t m = from; m < clouds.messages.size(); ++m) {
+    Eigen::Vector3d sum;
+    CheckCloud(clouds.messages[m], frame, &sum);
+    points = std::max<std::size_t>(points, clouds.messages[m].width);
+  }
+  return points;
+}
+
 // The demo finger pressed 4 mm into the default block (clamped to the table) through
 // /joint_states and robot_state_publisher.
 TEST(ContactPoints, CloudsAtTheConfiguredRateFiniteInTheirFrames) {
@@ -97,31 +118,20 @@ TEST(ContactPoints, CloudsAtTheConfiguredRateFiniteInTheirFrames) {
   ros::Publisher joints = handle.advertise<sensor_msgs::JointState>("/joint_states", 10);
   ASSERT_TRUE(Spin([&] { return world.messages.size() > 3 && tip.messages.size() > 3; }, 30.0));
   // Press from above (tip at slide_z = -0.089 touches) to 4 mm deep over 1.5 s, then hold.
-  const auto publish = [&](double z) {
-    sensor_msgs::JointState message;
-    message.header.stamp = ros::Time::now();
-    message.name = {"slide_x", "slide_z"};
-    message.position = {0.0, z};
-    joints.publish(message);
-  };
   for (int k = 0; k <= 150; ++k) {
-    publish(-0.07 + (-0.093 + 0.07) * k / 150.0);
+    PublishJoints(joints, -0.07 + (-0.093 + 0.07) * k / 150.0);
     Spin([] { return false; }, 0.01);
   }
   const std::size_t world_from = world.messages.size(), tip_from = tip.messages.size();
   for (int k = 0; k < 300; ++k) {  // 3 s held
-    publish(-0.093);
+    PublishJoints(joints, -0.093);
     Spin([] { return false; }, 0.01);
   }
   const double world_rate = world.Rate(world_from);
   const double tip_rate = tip.Rate(tip_from);
-  std::size_t world_points = 0, tip_points = 0;
+  std::size_t tip_points = 0;
   double worst_sum = 0.0, tip_force = 0.0;
-  for (std::size_t m = world_from; m < world.messages.size(); ++m) {
-    Eigen::Vector3d sum;
-    CheckCloud(world.messages[m], "world", &sum);
-    world_points = std::max<std::size_t>(world_points, world.messages[m].width);
-  }
+  const std::size_t world_points = MostPointsOfCheckedClouds(world, world_from, "world");
   for (std::size_t m = tip_from; m < tip.messages.size(); ++m) {
     Eigen::Vector3d sum;
     CheckCloud(tip.messages[m], "fingertip", &sum);

@@ -277,6 +277,54 @@ void CallServicesInALoop(const std::atomic<bool>& stop, std::atomic<long>* calls
   }
 }
 
+// The node's contacts rate (Hz) over kBaselineSeconds of wall time from now.
+double BaselineRate(const OutputWatch& outputs) {
+  const long baseline_contacts = outputs.contacts();
+  const ros::WallTime baseline_start = ros::WallTime::now();
+  ros::WallDuration(kBaselineSeconds).sleep();
+  return (outputs.contacts() - baseline_contacts) / (ros::WallTime::now() - baseline_start).toSec();
+}
+
+// What the storm's publishing loop saw.
+struct StormFigures {
+  ros::WallTime start;
+  long storm_contacts = 0;  // contacts received before the storm
+  long sent = 0, rss_after_warm_up = 0, rss_peak = 0;
+  double worst_window_rate = 1e30;  // Hz, in the slowest kWindowSeconds
+};
+
+// The storm at 1 kHz for kStormSeconds, measuring the contacts' rate and the node's memory.
+StormFigures PublishStorm(ros::Publisher& forces, ros::Publisher& wrenches,
+                          const OutputWatch& outputs, int pid) {
+  StormFigures f;
+  FieldValues value(42);
+  f.start = ros::WallTime::now();
+  ros::WallRate rate(1000.0);
+  double window_start = 0.0;
+  f.storm_contacts = outputs.contacts();
+  long window_contacts = f.storm_contacts;
+  for (double t = 0.0; t < kStormSeconds; t = (ros::WallTime::now() - f.start).toSec()) {
+    forces.publish(StormForce(value));
+    wrenches.publish(StormWrench(value));
+    f.sent += 2;
+    if (t - window_start >= kWindowSeconds) {
+      const double measured = (outputs.contacts() - window_contacts) / (t - window_start);
+      f.worst_window_rate = std::min(f.worst_window_rate, measured);
+      std::printf("  t %4.1f s: contacts at %.2f Hz, RSS %ld kB\n", t, measured,
+                  ResidentKilobytes(pid));
+      window_start = t;
+      window_contacts = outputs.contacts();
+    }
+    if (t >= kWarmUpSeconds) {
+      const long rss = ResidentKilobytes(pid);
+      if (f.rss_after_warm_up == 0) f.rss_after_warm_up = rss;
+      f.rss_peak = std::max(f.rss_peak, rss);
+    }
+    rate.sleep();
+  }
+  return f;
+}
+
 TEST(MessageStorm, NodeStaysUpAtItsRateFiniteAndFlat) {
   ros::NodeHandle handle;
   ros::AsyncSpinner spinner(1);
@@ -290,59 +338,30 @@ TEST(MessageStorm, NodeStaysUpAtItsRateFiniteAndFlat) {
   ASSERT_GT(outputs.contacts(), 0) << "the node publishes no contacts";
   const int pid = NodePid("/msm_sim");
   ASSERT_GT(pid, 0);
-  const long baseline_contacts = outputs.contacts();
-  const ros::WallTime baseline_start = ros::WallTime::now();
-  ros::WallDuration(kBaselineSeconds).sleep();
-  const double baseline_rate =
-      (outputs.contacts() - baseline_contacts) / (ros::WallTime::now() - baseline_start).toSec();
+  const double baseline_rate = BaselineRate(outputs);
   ASSERT_GT(baseline_rate, 0.0) << "the node publishes no contacts before the storm";
 
   std::atomic<bool> stop{false};
   std::atomic<long> calls{0}, failures{0};
   std::thread services(CallServicesInALoop, std::cref(stop), &calls, &failures);
-  FieldValues value(42);
-  const ros::WallTime start = ros::WallTime::now();
-  ros::WallRate rate(1000.0);
-  long sent = 0, rss_after_warm_up = 0, rss_peak = 0;
-  double window_start = 0.0, worst_window_rate = 1e30;
-  const long storm_contacts = outputs.contacts();
-  long window_contacts = storm_contacts;
-  for (double t = 0.0; t < kStormSeconds; t = (ros::WallTime::now() - start).toSec()) {
-    forces.publish(StormForce(value));
-    wrenches.publish(StormWrench(value));
-    sent += 2;
-    if (t - window_start >= kWindowSeconds) {
-      const double measured = (outputs.contacts() - window_contacts) / (t - window_start);
-      worst_window_rate = std::min(worst_window_rate, measured);
-      std::printf("  t %4.1f s: contacts at %.2f Hz, RSS %ld kB\n", t, measured,
-                  ResidentKilobytes(pid));
-      window_start = t;
-      window_contacts = outputs.contacts();
-    }
-    if (t >= kWarmUpSeconds) {
-      const long rss = ResidentKilobytes(pid);
-      if (rss_after_warm_up == 0) rss_after_warm_up = rss;
-      rss_peak = std::max(rss_peak, rss);
-    }
-    rate.sleep();
-  }
+  const StormFigures f = PublishStorm(forces, wrenches, outputs, pid);
   stop = true;
   services.join();
-  const double seconds = (ros::WallTime::now() - start).toSec();
-  const double mean_rate = (outputs.contacts() - storm_contacts) / seconds;
+  const double seconds = (ros::WallTime::now() - f.start).toSec();
+  const double mean_rate = (outputs.contacts() - f.storm_contacts) / seconds;
   std::printf(
       "  %ld messages in %.1f s (%.0f /s), %ld service calls (%ld unanswered), %ld outputs "
       "checked, %ld non-finite; contacts at %.1f Hz before the storm, %.1f Hz over it, %.1f Hz "
       "in its slowest 10 s; RSS %ld kB at 10 s, peak %ld kB after (%.2f %%)\n",
-      sent, seconds, sent / seconds, calls.load(), failures.load(), outputs.TotalReceived(),
-      outputs.TotalNonFinite(), baseline_rate, mean_rate, worst_window_rate, rss_after_warm_up,
-      rss_peak, 100.0 * (rss_peak - rss_after_warm_up) / rss_after_warm_up);
+      f.sent, seconds, f.sent / seconds, calls.load(), failures.load(), outputs.TotalReceived(),
+      outputs.TotalNonFinite(), baseline_rate, mean_rate, f.worst_window_rate, f.rss_after_warm_up,
+      f.rss_peak, 100.0 * (f.rss_peak - f.rss_after_warm_up) / f.rss_after_warm_up);
   EXPECT_GT(ResidentKilobytes(pid), 0) << "the node is gone";
   EXPECT_EQ(failures, 0);
   outputs.ExpectEachTopicFinite();
   EXPECT_GT(mean_rate, 0.6 * baseline_rate);
-  EXPECT_GT(worst_window_rate, 0.4 * baseline_rate);
-  EXPECT_LT(rss_peak, 1.05 * rss_after_warm_up);
+  EXPECT_GT(f.worst_window_rate, 0.4 * baseline_rate);
+  EXPECT_LT(f.rss_peak, 1.05 * f.rss_after_warm_up);
 }
 
 }  // namespace

@@ -183,68 +183,49 @@ Eigen::Vector3d MeanDisplacement(const std::vector<Eigen::Vector3d>& now,
   return sum / count;
 }
 
-// 5. ~reset restores the rest shape; after ~set_material halves E the same push deflects twice
-// as far within 5 %.
-TEST(ResetAndMaterial, ResetRestoresRestShapeAndHalfTheModulusDoublesTheDeflection) {
-  NodeOutputs node;
-  ros::NodeHandle handle;
-  ASSERT_TRUE(node.WaitForNode());
-  ASSERT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
-  const std::vector<Eigen::Vector3d> rest = node.Points();  // no gravity: at rest
-  const Eigen::Vector3d top(0.0, 0.0, 0.09);
-  const Eigen::Vector3d force(0.0, 0.0, -4.0);
-  auto read_deflection = [&] {
-    node.has_state = false;
-    EXPECT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
-    return -MeanDisplacement(node.Points(), rest, top, 0.025).z();
-  };
-  // The node runs as fast as it can, so when the push starts acting (its message's arrival) is
-  // not tied to the simulated clock: wait 3 s, then until two readings 0.5 s apart agree.
-  auto deflection = [&] {
-    node.Push("block", top, force, 0.025, 1000.0);
-    EXPECT_TRUE(node.WaitSimulated(3.0));
-    double previous = read_deflection();
-    for (int k = 0; k < 20; ++k) {
-      EXPECT_TRUE(node.WaitSimulated(0.5));
-      const double current = read_deflection();
-      if (std::abs(current - previous) <= 0.002 * std::abs(current)) return current;
-      previous = current;
-    }
-    return previous;
-  };
-  auto call = [&](const std::string& service) {
-    std_srvs::Trigger trigger;
-    EXPECT_TRUE(ros::service::waitForService(service, 10000));
-    EXPECT_TRUE(ros::service::call(service, trigger));
-    EXPECT_TRUE(trigger.response.success) << trigger.response.message;
-  };
-  const double first = deflection();
-  ASSERT_GT(first, 1e-4);
-  call("/msm_sim/reset");
-  // A state published before the reset may still be on its way: read one from later.
-  ASSERT_TRUE(node.WaitSimulated(0.2));
+// The mean downward displacement near `top` in the next state the node publishes (m).
+double ReadDeflection(NodeOutputs& node, const std::vector<Eigen::Vector3d>& rest,
+                      const Eigen::Vector3d& top) {
   node.has_state = false;
-  ASSERT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
-  double worst = 0.0;
-  const std::vector<Eigen::Vector3d> after_reset = node.Points();
-  for (std::size_t i = 0; i < rest.size(); ++i)
-    worst = std::max(worst, (after_reset[i] - rest[i]).norm());
-  EXPECT_LT(worst, 1e-6) << "reset did not restore the rest shape";
+  EXPECT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
+  return -MeanDisplacement(node.Points(), rest, top, 0.025).z();
+}
 
-  msm_sim::SetMaterial material;
-  material.request.object = "block";
-  material.request.youngs = 2.5e4;  // half of push.yaml's
-  material.request.poisson = 0.3;
-  material.request.density = 1000.0;
-  material.request.damping = 0.002;
-  material.request.friction = 0.5;
-  ASSERT_TRUE(ros::service::waitForService("/msm_sim/set_material", 10000));
-  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
-  ASSERT_TRUE(material.response.success) << material.response.message;
-  const double second = deflection();
-  std::printf("  deflection %.6f m at E, %.6f m at E/2: ratio %.4f\n", first, second,
-              second / first);
-  EXPECT_NEAR(second / first, 2.0, 0.1);
+// Pushes the block at `top` and returns its settled deflection there.
+// The node runs as fast as it can, so when the push starts acting (its message's arrival) is
+// not tied to the simulated clock: wait 3 s, then until two readings 0.5 s apart agree.
+double SettledDeflection(NodeOutputs& node, const std::vector<Eigen::Vector3d>& rest,
+                         const Eigen::Vector3d& top, const Eigen::Vector3d& force) {
+  node.Push("block", top, force, 0.025, 1000.0);
+  EXPECT_TRUE(node.WaitSimulated(3.0));
+  double previous = ReadDeflection(node, rest, top);
+  for (int k = 0; k < 20; ++k) {
+    EXPECT_TRUE(node.WaitSimulated(0.5));
+    const double current = ReadDeflection(node, rest, top);
+    if (std::abs(current - previous) <= 0.002 * std::abs(current)) return current;
+    previous = current;
+  }
+  return previous;
+}
+
+// Calls a std_srvs/Trigger service, which must answer with success.
+void CallTrigger(const std::string& service) {
+  std_srvs::Trigger trigger;
+  EXPECT_TRUE(ros::service::waitForService(service, 10000));
+  EXPECT_TRUE(ros::service::call(service, trigger));
+  EXPECT_TRUE(trigger.response.success) << trigger.response.message;
+}
+
+// The largest distance between corresponding points (m).
+double LargestDistance(const std::vector<Eigen::Vector3d>& a,
+                       const std::vector<Eigen::Vector3d>& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < b.size(); ++i) worst = std::max(worst, (a[i] - b[i]).norm());
+  return worst;
+}
+
+// Variants of the valid request `material`: each answered as docs/materials.md says.
+void ExpectSetMaterialChecksItsRequest(msm_sim::SetMaterial& material) {
   // A bad request is refused with a reason and changes nothing.
   material.request.poisson = 0.7;
   ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
@@ -269,6 +250,43 @@ TEST(ResetAndMaterial, ResetRestoresRestShapeAndHalfTheModulusDoublesTheDeflecti
   EXPECT_FALSE(material.response.success);
   EXPECT_NE(material.response.message.find("[10, 90]"), std::string::npos)
       << material.response.message;
+}
+
+// 5. ~reset restores the rest shape; after ~set_material halves E the same push deflects twice
+// as far within 5 %.
+TEST(ResetAndMaterial, ResetRestoresRestShapeAndHalfTheModulusDoublesTheDeflection) {
+  NodeOutputs node;
+  ros::NodeHandle handle;
+  ASSERT_TRUE(node.WaitForNode());
+  ASSERT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
+  const std::vector<Eigen::Vector3d> rest = node.Points();  // no gravity: at rest
+  const Eigen::Vector3d top(0.0, 0.0, 0.09);
+  const Eigen::Vector3d force(0.0, 0.0, -4.0);
+  const double first = SettledDeflection(node, rest, top, force);
+  ASSERT_GT(first, 1e-4);
+  CallTrigger("/msm_sim/reset");
+  // A state published before the reset may still be on its way: read one from later.
+  ASSERT_TRUE(node.WaitSimulated(0.2));
+  node.has_state = false;
+  ASSERT_TRUE(WaitFor([&] { return node.has_state; }, 10.0));
+  const double worst = LargestDistance(node.Points(), rest);
+  EXPECT_LT(worst, 1e-6) << "reset did not restore the rest shape";
+
+  msm_sim::SetMaterial material;
+  material.request.object = "block";
+  material.request.youngs = 2.5e4;  // half of push.yaml's
+  material.request.poisson = 0.3;
+  material.request.density = 1000.0;
+  material.request.damping = 0.002;
+  material.request.friction = 0.5;
+  ASSERT_TRUE(ros::service::waitForService("/msm_sim/set_material", 10000));
+  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
+  ASSERT_TRUE(material.response.success) << material.response.message;
+  const double second = SettledDeflection(node, rest, top, force);
+  std::printf("  deflection %.6f m at E, %.6f m at E/2: ratio %.4f\n", first, second,
+              second / first);
+  EXPECT_NEAR(second / first, 2.0, 0.1);
+  ExpectSetMaterialChecksItsRequest(material);
 }
 
 // 6. With use_sim_time, stepping follows /clock: no steps while the clock is stopped.

@@ -117,6 +117,37 @@ struct SoakFigures {
   double wall_seconds = 0.0;
 };
 
+// A random push of up to kPushWeights times `weight`; returns its duration (s).
+double RandomPush(Scene& scene, double weight, std::mt19937& random) {
+  World& world = *scene.world;
+  const Model& model = world.model(scene.body);
+  auto uniform = [&](double a, double b) { return std::uniform_real_distribution<>(a, b)(random); };
+  const Eigen::Vector3d direction =
+      Eigen::Vector3d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)).normalized();
+  const int node = std::uniform_int_distribution<int>(0, model.num_nodes() - 1)(random);
+  const double duration = uniform(0.0, 1.0);
+  world.ApplyForce(scene.body, world.state(scene.body).positions.col(node),
+                   uniform(0.0, kPushWeights * weight) * direction, uniform(0.0, 0.02), duration);
+  return duration;
+}
+
+// Step k's samples: finiteness and energy every 100 steps, memory every 10,000 after kMemoryFrom.
+void Sample(const Scene& scene, int k, double t, SoakFigures* f) {
+  if (k % 100 == 0) {
+    const State& state = scene.world->state(scene.body);
+    f->finite = f->finite && state.positions.allFinite() && state.velocities.allFinite();
+    const double energy = scene.world->ComputeEnergies(scene.body).total();
+    f->finite = f->finite && std::isfinite(energy);
+    f->max_energy = std::max(f->max_energy, energy);
+    f->min_energy = std::min(f->min_energy, energy);
+  }
+  if (k % 10000 == 0 && t >= kMemoryFrom) {
+    const long rss = ResidentKilobytes();
+    if (f->rss_at_minute == 0) f->rss_at_minute = rss;
+    f->rss_peak = std::max(f->rss_peak, rss);
+  }
+}
+
 SoakFigures Soak(Scene& scene, std::uint32_t seed) {
   World& world = *scene.world;
   const Model& model = world.model(scene.body);
@@ -132,13 +163,7 @@ SoakFigures Soak(Scene& scene, std::uint32_t seed) {
   for (int k = 0; k < steps; ++k) {
     const double t = k * kStep;
     if (t >= next_push && t >= push_ends && t < kSoakSeconds - 5.0) {  // the last 5 s at rest
-      const Eigen::Vector3d direction =
-          Eigen::Vector3d(uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)).normalized();
-      const int node = std::uniform_int_distribution<int>(0, model.num_nodes() - 1)(random);
-      const double duration = uniform(0.0, 1.0);
-      world.ApplyForce(scene.body, world.state(scene.body).positions.col(node),
-                       uniform(0.0, kPushWeights * weight) * direction, uniform(0.0, 0.02),
-                       duration);
+      const double duration = RandomPush(scene, weight, random);
       ++f.pushes;
       push_ends = t + duration;
       next_push = push_ends + uniform(0.0, 0.5);
@@ -156,19 +181,7 @@ SoakFigures Soak(Scene& scene, std::uint32_t seed) {
       f.longest_recovery = std::max(f.longest_recovery, since_rejection);
       since_rejection = -1;
     }
-    if (k % 100 == 0) {
-      const State& state = world.state(scene.body);
-      f.finite = f.finite && state.positions.allFinite() && state.velocities.allFinite();
-      const double energy = world.ComputeEnergies(scene.body).total();
-      f.finite = f.finite && std::isfinite(energy);
-      f.max_energy = std::max(f.max_energy, energy);
-      f.min_energy = std::min(f.min_energy, energy);
-    }
-    if (k % 10000 == 0 && t >= kMemoryFrom) {
-      const long rss = ResidentKilobytes();
-      if (f.rss_at_minute == 0) f.rss_at_minute = rss;
-      f.rss_peak = std::max(f.rss_peak, rss);
-    }
+    Sample(scene, k, t, &f);
   }
   // A run of rejected steps still going at the end never recovered.
   if (since_rejection >= 0) f.longest_recovery = std::max(f.longest_recovery, steps);
