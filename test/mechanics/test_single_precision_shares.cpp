@@ -211,13 +211,18 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   ASSERT_GE(n, 1'000);
   ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, 3);
   evaluator.set_precision(SpringPrecision::kSingle);
+  // The shares run on their own threads at once: each records its bounds in its own slot.
   const auto bounds = [&] {
-    std::vector<int> ends;
+    const int shares = evaluator.NumNodeShares();
+    std::vector<int> begins(shares, -1), ends(shares, -1);
     evaluator.ForEachNodeShare([&](int share, int begin, int end) {
-      EXPECT_EQ(begin, share == 0 ? 0 : ends.back()) << share;
-      EXPECT_LT(begin, end) << share;
-      ends.push_back(end);
+      begins[share] = begin;
+      ends[share] = end;
     });
+    for (int share = 0; share < shares; ++share) {
+      EXPECT_EQ(begins[share], share == 0 ? 0 : ends[share - 1]) << share;
+      EXPECT_LT(begins[share], ends[share]) << share;
+    }
     return ends;
   };
   const std::vector<int> equal = bounds();
