@@ -224,14 +224,20 @@ double LargestDistance(const std::vector<Eigen::Vector3d>& a,
   return worst;
 }
 
+// Calls ~set_material with `material`, expecting it refused with a reason naming `reason`;
+// false if the call itself failed.
+bool CallRefused(msm_sim::SetMaterial& material, const std::string& reason) {
+  if (!ros::service::call("/msm_sim/set_material", material)) return false;
+  EXPECT_FALSE(material.response.success);
+  EXPECT_NE(material.response.message.find(reason), std::string::npos) << material.response.message;
+  return true;
+}
+
 // Variants of the valid request `material`: each answered as docs/materials.md says.
 void ExpectSetMaterialChecksItsRequest(msm_sim::SetMaterial& material) {
   // A bad request is refused with a reason and changes nothing.
   material.request.poisson = 0.7;
-  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
-  EXPECT_FALSE(material.response.success);
-  EXPECT_NE(material.response.message.find("Poisson"), std::string::npos)
-      << material.response.message;
+  ASSERT_TRUE(CallRefused(material, "Poisson"));
   // A Shore hardness instead of youngs (docs/materials.md): converted, or refused with a reason.
   material.request.poisson = 0.3;
   material.request.youngs = 0.0;
@@ -240,16 +246,10 @@ void ExpectSetMaterialChecksItsRequest(msm_sim::SetMaterial& material) {
   EXPECT_TRUE(material.response.success) << material.response.message;
   EXPECT_NE(material.response.message.find("2.45"), std::string::npos) << material.response.message;
   material.request.shore_a = 50.0;
-  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
-  EXPECT_FALSE(material.response.success);
-  EXPECT_NE(material.response.message.find("not several"), std::string::npos)
-      << material.response.message;
+  ASSERT_TRUE(CallRefused(material, "not several"));
   material.request.shore_00 = 0.0;
   material.request.shore_a = 95.0;
-  ASSERT_TRUE(ros::service::call("/msm_sim/set_material", material));
-  EXPECT_FALSE(material.response.success);
-  EXPECT_NE(material.response.message.find("[10, 90]"), std::string::npos)
-      << material.response.message;
+  ASSERT_TRUE(CallRefused(material, "[10, 90]"));
 }
 
 // 5. ~reset restores the rest shape; after ~set_material halves E the same push deflects twice
