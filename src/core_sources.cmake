@@ -29,6 +29,8 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/lattice/outer_layer_dispersion.cpp
   ${MSM_SIM_DIR}/src/lattice/random_lattice_builder.cpp
   ${MSM_SIM_DIR}/src/lattice/random_self_calibration.cpp
+  # io
+  ${MSM_SIM_DIR}/src/io/regular_file.cpp
   # geometry
   ${MSM_SIM_DIR}/src/geometry/box_clipping.cpp
   ${MSM_SIM_DIR}/src/geometry/delaunay.cpp

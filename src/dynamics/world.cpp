@@ -35,6 +35,9 @@ World::World(const WorldOptions& options)
               (options.max_substep_refinement & (options.max_substep_refinement - 1)) == 0,
           "max substep refinement must be a power of 2 (1 turns it off)");
   Require(options.contact_iterations >= 1, "contact iterations must be >= 1");
+  Require(options.max_pending_pushes >= 1, "max pending pushes must be >= 1");
+  Require(options.max_pending_force > 0.0 && Finite(options.max_pending_force),
+          "max pending force must be finite and > 0");
   Require(options.implicit_max_substep > 0.0 && Finite(options.implicit_max_substep),
           "implicit max substep must be finite and > 0");
   Require(options.implicit_tolerance > 0.0 && options.implicit_tolerance < 1.0,
@@ -123,13 +126,13 @@ int World::AddKinematicGroup(int body_index, const KinematicGroup& group) {
   return static_cast<int>(body.groups.size()) - 1;
 }
 
-void World::ApplyForce(int body_index, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
-                       double radius, double duration) {
-  ApplyWrench(body_index, point, force, Eigen::Vector3d::Zero(), radius, duration);
+int World::ApplyForce(int body_index, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                      double radius, double duration) {
+  return ApplyWrench(body_index, point, force, Eigen::Vector3d::Zero(), radius, duration);
 }
 
-void World::ApplyWrench(int body_index, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
-                        const Eigen::Vector3d& torque, double radius, double duration) {
+int World::ApplyWrench(int body_index, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                       const Eigen::Vector3d& torque, double radius, double duration) {
   Require(body_index >= 0 && body_index < num_bodies(), "no body " + std::to_string(body_index));
   Require(point.allFinite() && force.allFinite() && torque.allFinite(),
           "force, torque and point must be finite");
@@ -163,8 +166,9 @@ void World::ApplyWrench(int body_index, const Eigen::Vector3d& point, const Eige
     Eigen::Vector3d node_force = force * (m[i] / total_mass);
     if (lever_sq > 0.0) node_force += torque.cross(x.col(i) - point) / lever_sq;
     push.forces.push_back(node_force);
+    push.force_sum += node_force.norm();
   }
-  state_->bodies[body_index].pushes.push_back(std::move(push));
+  return internal::AddPush(std::move(push), state_->options, &state_->bodies[body_index].pushes);
 }
 
 void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,

@@ -81,6 +81,21 @@ std::vector<Eigen::Isometry3d> GroupPoses(const Body& body, double t) {
   return poses;
 }
 
+int AddPush(Push push, const WorldOptions& options, std::vector<Push>* pushes) {
+  double force_sum = push.force_sum;
+  for (const Push& pending : *pushes) force_sum += pending.force_sum;
+  std::size_t dropped = 0;
+  while (dropped < pushes->size() &&
+         (pushes->size() - dropped + 1 > static_cast<std::size_t>(options.max_pending_pushes) ||
+          force_sum > options.max_pending_force)) {
+    force_sum -= (*pushes)[dropped].force_sum;
+    ++dropped;
+  }
+  pushes->erase(pushes->begin(), pushes->begin() + static_cast<std::ptrdiff_t>(dropped));
+  pushes->push_back(std::move(push));
+  return static_cast<int>(dropped);
+}
+
 void PlaceGroupNodes(Body* body, const std::vector<Eigen::Isometry3d>& poses, int begin, int end) {
   for (std::size_t g = 0; g < body->groups.size(); ++g) {
     const Group& group = body->groups[g];

@@ -28,7 +28,13 @@ struct Push {
   std::vector<NodeIndex> nodes;
   std::vector<Eigen::Vector3d> forces;  // per node
   double remaining;                     // s; <= 0 after its one step
+  double force_sum = 0.0;               // N, the sum of |forces|
 };
+
+/// Appends `push` to a body's pending `pushes`, first dropping the oldest until the count and
+/// the force sum stay within options' max_pending_pushes and max_pending_force (a lone push
+/// above the force bound stays); returns how many were dropped.
+int AddPush(Push push, const WorldOptions& options, std::vector<Push>* pushes);
 
 /// A kinematic group as the World keeps it.
 struct Group {

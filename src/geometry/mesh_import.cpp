@@ -12,6 +12,7 @@
 #include <assimp/Importer.hpp>
 
 #include "geometry/mesh_header_check.h"
+#include "msm_sim/io/regular_file.h"
 
 namespace msm_sim::core {
 namespace {
@@ -33,9 +34,10 @@ void CheckInput(const std::string& path, const MeshImportOptions& options) {
   if (!(options.scale > 0.0) || !std::isfinite(options.scale)) {
     Fail(path, "scale must be finite and > 0, got " + Describe(options.scale));
   }
+  const std::string file_problem = RegularFileProblem(path);
+  if (!file_problem.empty()) Fail(path, file_problem);
   struct stat info {};
   if (stat(path.c_str(), &info) != 0) Fail(path, "no such file");
-  if (!S_ISREG(info.st_mode)) Fail(path, "not a regular file");
   if (info.st_size == 0) Fail(path, "the file is empty");
   const auto size = static_cast<std::uint64_t>(info.st_size);
   if (size > options.max_file_bytes) {

@@ -15,11 +15,14 @@
 #include "lab_report.h"
 #include "msm_sim/experiments/indentation_curve.h"
 #include "msm_sim/experiments/indentation_fit.h"
+#include "msm_sim/io/regular_file.h"
 
 namespace msm_sim::lab {
 namespace {
 
 std::vector<core::IndentationPoint> ReadCurve(const std::string& path) {
+  const std::string problem = core::RegularFileProblem(path);
+  if (!problem.empty()) throw std::invalid_argument("cannot read " + path + ": " + problem);
   std::ifstream file(path);
   if (!file) throw std::invalid_argument("cannot read " + path);
   return core::ReadIndentationCurve(file);

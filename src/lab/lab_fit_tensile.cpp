@@ -9,6 +9,7 @@
 #include "lab_fit_command.h"
 #include "lab_report.h"
 #include "msm_sim/experiments/tensile_fit.h"
+#include "msm_sim/io/regular_file.h"
 #include "sweep_plot.h"
 
 namespace msm_sim::lab {
@@ -26,6 +27,8 @@ void SetColumn(const std::string& text, std::string* name, int* index) {
 }
 
 core::TensileCurve ReadCurve(const FitArguments& fit) {
+  const std::string problem = core::RegularFileProblem(fit.tensile);
+  if (!problem.empty()) throw std::invalid_argument("cannot read " + fit.tensile + ": " + problem);
   std::ifstream file(fit.tensile);
   if (!file) throw std::invalid_argument("cannot read " + fit.tensile);
   core::TensileColumns columns;

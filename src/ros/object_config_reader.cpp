@@ -1,11 +1,11 @@
 #include "object_config_reader.h"
 
 #include <cmath>
-#include <fstream>
 #include <set>
 #include <stdexcept>
 #include <string>
 
+#include "msm_sim/io/regular_file.h"
 #include "msm_sim/material/shore_hardness.h"
 #include "parameter_tree.h"
 #include "spring_law_reader.h"
@@ -59,9 +59,11 @@ const std::set<std::string> kShapeKeys = {"type", "size", "radius", "length", "u
 // A random model's seed is read as a double: whole numbers above 2^53 are not all representable.
 constexpr double kMaxSeed = 9007199254740992.0;
 
-// A missing mesh file is the configuration's error, reported before any object is built.
+// A missing mesh file is the configuration's error, reported before any object is built; the
+// file is never opened here, so a FIFO cannot hang start-up.
 void RequireReadable(const std::string& file, const std::string& parameter) {
-  if (!std::ifstream(file)) Fail(parameter, "cannot read the file '" + file + "'");
+  const std::string problem = core::RegularFileProblem(file);
+  if (!problem.empty()) Fail(parameter, "cannot read the file '" + file + "': " + problem);
 }
 
 // shore_a or shore_00 instead of youngs: E by the core's conversion (docs/materials.md). At most
@@ -175,12 +177,14 @@ core::LatticeKind ReadLatticeKind(XmlRpcValue& object, core::LatticeKind fallbac
   return kind;
 }
 
-Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
+Eigen::Isometry3d ReadPose(XmlRpcValue& object, double max_distance, const std::string& path) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (!Has(object, "pose")) return pose;
   XmlRpcValue& p = object["pose"];
   KnownKeys(p, {"position", "rpy"}, path + "/pose");
   pose.translation() = Vector(p, "position", Eigen::Vector3d::Zero(), path + "/pose");
+  param::AtMost(pose.translation().norm(), max_distance, "position", path + "/pose",
+                "its distance (m) from the world origin is beyond ~world/max_distance");
   const Eigen::Vector3d rpy = Vector(p, "rpy", Eigen::Vector3d::Zero(), path + "/pose");
   pose.linear() = (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
                    Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
@@ -189,11 +193,11 @@ Eigen::Isometry3d ReadPose(XmlRpcValue& object, const std::string& path) {
   return pose;
 }
 
-ClampConfig ReadClamp(XmlRpcValue& clamp, const std::string& path) {
+ClampConfig ReadClamp(XmlRpcValue& clamp, const std::set<std::string>& reserved,
+                      const std::string& path) {
   KnownKeys(clamp, {"name", "box", "half_space"}, path);
   ClampConfig config;
-  config.name = Text(clamp, "name", "", path);
-  if (config.name.empty()) Fail(path + "/name", "missing");
+  config.name = param::Name(clamp, "name", reserved, path);
   if (Has(clamp, "box")) {
     config.is_box = true;
     KnownKeys(clamp["box"], {"min", "max"}, path + "/box");
@@ -275,13 +279,20 @@ void ReadDynamicsKeys(XmlRpcValue& object, const std::string& path, ObjectConfig
   }
 }
 
-// The clamps and the visual mesh, both optional.
-void ReadClampsAndVisual(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
+// The clamps and the visual mesh, both optional. A clamp's name is its wrench's collider name
+// in ~contacts: unique within the object and none of `reserved`.
+void ReadClampsAndVisual(XmlRpcValue& object, const std::set<std::string>& reserved,
+                         const std::string& path, ObjectConfig* config) {
   if (Has(object, "clamps")) {
     XmlRpcValue& clamps = object["clamps"];
     if (clamps.getType() != XmlRpcValue::TypeArray) Fail(path + "/clamps", "expected a list");
+    std::set<std::string> names;
     for (int c = 0; c < clamps.size(); ++c) {
-      config->clamps.push_back(ReadClamp(clamps[c], path + "/clamps[" + std::to_string(c) + "]"));
+      const std::string clamp_path = path + "/clamps[" + std::to_string(c) + "]";
+      config->clamps.push_back(ReadClamp(clamps[c], reserved, clamp_path));
+      if (!names.insert(config->clamps.back().name).second) {
+        Fail(clamp_path + "/name", "duplicate clamp name '" + config->clamps.back().name + "'");
+      }
     }
   }
   if (Has(object, "visual_mesh")) {
@@ -292,26 +303,27 @@ void ReadClampsAndVisual(XmlRpcValue& object, const std::string& path, ObjectCon
   }
 }
 
-ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const std::string& path) {
+ObjectConfig ReadObject(XmlRpcValue& object, XmlRpcValue* materials, const WorldConfig& world,
+                        const std::string& path) {
   KnownKeys(object, kObjectKeys, path);
   ObjectConfig config;
-  config.name = Text(object, "name", "", path);
-  if (config.name.empty()) Fail(path + "/name", "missing");
+  const std::set<std::string> reserved = ReservedNames(world);
+  config.name = param::Name(object, "name", reserved, path);
   config.shape = ReadShape(object, path);
-  config.pose = ReadPose(object, path);
+  config.pose = ReadPose(object, world.max_distance, path);
   ReadLatticeKeys(object, path, &config);
   const NamedMaterial material = FindMaterial(object, materials, path);
   ReadMaterial(object, material, path, &config);
   ReadSpringLaw(object, material, path, &config.lattice);
   ReadDynamicsKeys(object, path, &config);
-  ReadClampsAndVisual(object, path, &config);
+  ReadClampsAndVisual(object, reserved, path, &config);
   return config;
 }
 
 }  // namespace
 
 // ~objects, each with a unique name; ~materials supplies the materials objects name.
-std::vector<ObjectConfig> ReadObjects(XmlRpcValue& root) {
+std::vector<ObjectConfig> ReadObjects(XmlRpcValue& root, const WorldConfig& world) {
   XmlRpcValue materials;
   const bool has_materials =
       Get(root, "materials", &materials) && materials.getType() == XmlRpcValue::TypeStruct;
@@ -323,7 +335,7 @@ std::vector<ObjectConfig> ReadObjects(XmlRpcValue& root) {
   std::vector<ObjectConfig> configs;
   std::set<std::string> names;
   for (int i = 0; i < objects.size(); ++i) {
-    ObjectConfig object = ReadObject(objects[i], has_materials ? &materials : nullptr,
+    ObjectConfig object = ReadObject(objects[i], has_materials ? &materials : nullptr, world,
                                      "~objects[" + std::to_string(i) + "]");
     if (!names.insert(object.name).second) {
       Fail("~objects[" + std::to_string(i) + "]/name", "duplicate name '" + object.name + "'");

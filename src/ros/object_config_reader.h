@@ -12,7 +12,9 @@ namespace msm_sim::ros_interface {
 
 /// root["objects"] as ObjectConfigs, materials named by an object looked up in root["materials"]
 /// (config/materials.yaml). Throws ConfigError naming the parameter for a missing or empty list,
-/// an unknown key, a bad value, a mesh file that cannot be read or a duplicate object name.
-std::vector<ObjectConfig> ReadObjects(XmlRpc::XmlRpcValue& root);
+/// an unknown key, a bad value, a mesh file that cannot be read, a duplicate object or clamp
+/// name, a name that is no ROS name or is one of ReservedNames(world), or a pose beyond
+/// world.max_distance.
+std::vector<ObjectConfig> ReadObjects(XmlRpc::XmlRpcValue& root, const WorldConfig& world);
 
 }  // namespace msm_sim::ros_interface

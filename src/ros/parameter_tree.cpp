@@ -1,5 +1,7 @@
 #include "parameter_tree.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -114,6 +116,33 @@ double Count(XmlRpcValue& parent, const std::string& key, double fallback, doubl
     Fail(path + "/" + key, text.str());
   }
   return value;
+}
+
+double AtMost(double value, double max, const std::string& key, const std::string& path,
+              const std::string& meaning) {
+  if (value <= max) return value;
+  std::ostringstream text;
+  text << "must be at most " << max << " (got " << value << "): " << meaning;
+  Fail(path + "/" + key, text.str());
+}
+
+std::string Name(XmlRpcValue& parent, const std::string& key, const std::set<std::string>& reserved,
+                 const std::string& path) {
+  const std::string name = Text(parent, key, "", path);
+  if (name.empty()) Fail(path + "/" + key, "missing");
+  const bool letter_first = std::isalpha(static_cast<unsigned char>(name[0])) != 0;
+  const bool word = std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_';
+  });
+  if (!letter_first || !word) {
+    Fail(path + "/" + key, "'" + name +
+                               "' is not a ROS name: start with a letter and use only letters, "
+                               "digits and underscores");
+  }
+  if (reserved.count(name) != 0) {
+    Fail(path + "/" + key, "'" + name + "' is taken (the world frame and 'ground' are reserved)");
+  }
+  return name;
 }
 
 bool Get(XmlRpcValue& parent, const std::string& key, XmlRpcValue* value) {

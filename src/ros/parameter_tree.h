@@ -40,6 +40,16 @@ bool Flag(XmlRpcValue& parent, const std::string& key, bool fallback, const std:
 Eigen::Vector3d Vector(XmlRpcValue& parent, const std::string& key, const Eigen::Vector3d& fallback,
                        const std::string& path);
 
+/// Fails at path/key unless value <= max; `meaning` says what the bound keeps out. Returns value.
+double AtMost(double value, double max, const std::string& key, const std::string& path,
+              const std::string& meaning);
+
+/// parent[key] as a name that is a valid ROS base name (a letter, then letters, digits and
+/// underscores: it becomes a tf frame, a marker namespace and a parameter namespace) and none
+/// of `reserved`; fails at path/key for a missing, malformed or reserved name.
+std::string Name(XmlRpcValue& parent, const std::string& key, const std::set<std::string>& reserved,
+                 const std::string& path);
+
 /// Fails at `path` unless `value` is a dictionary whose keys are all in `known`: a misspelt
 /// key would otherwise be ignored silently and its default used.
 void KnownKeys(XmlRpcValue& value, const std::set<std::string>& known, const std::string& path);

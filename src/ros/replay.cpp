@@ -15,6 +15,7 @@
 #include <tf2_msgs/TFMessage.h>
 #include <yaml-cpp/yaml.h>
 
+#include "msm_sim/io/regular_file.h"
 #include "simulation.h"
 
 namespace msm_sim::ros_interface {
@@ -49,6 +50,8 @@ XmlRpc::XmlRpcValue ToXmlRpc(const YAML::Node& node) {
 }
 
 YAML::Node LoadYaml(const std::string& path, const std::string& what) {
+  const std::string problem = core::RegularFileProblem(path);
+  if (!problem.empty()) throw ReplayError(what + " '" + path + "': " + problem);
   try {
     return YAML::LoadFile(path);
   } catch (const std::exception& e) {
@@ -94,6 +97,10 @@ SimulationConfig LoadScene(const ReplayOptions& options) {
 // `failure` starts the error message if the bag cannot be opened.
 void OpenBag(const std::string& path, rosbag::bagmode::BagMode mode, const std::string& failure,
              rosbag::Bag* bag) {
+  if (mode == rosbag::bagmode::Read) {
+    const std::string problem = core::RegularFileProblem(path);
+    if (!problem.empty()) throw ReplayError(failure + problem);
+  }
   try {
     bag->open(path, mode);
   } catch (const rosbag::BagException& e) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <memory>
 #include <set>
+#include <sstream>
 
 #include <tf2/exceptions.h>
 #include <urdf_parser/urdf_parser.h>
@@ -68,6 +69,18 @@ core::ColliderShape ShapeOf(const urdf::Geometry& geometry) {
   throw std::invalid_argument("unknown geometry type");
 }
 
+// What in `world` already has the name `name` (a collider such as the ground, or an object), or
+// empty.
+std::string NameClash(const core::World& world, const std::string& name) {
+  for (int c = 0; c < world.num_colliders(); ++c) {
+    if (world.collider(c).name == name) return "the collider '" + name + "'";
+  }
+  for (int b = 0; b < world.num_bodies(); ++b) {
+    if (world.body_name(b) == name) return "the object '" + name + "'";
+  }
+  return {};
+}
+
 }  // namespace
 
 void RobotColliders::Problem(const std::string& message) {
@@ -76,8 +89,9 @@ void RobotColliders::Problem(const std::string& message) {
 }
 
 RobotColliders::RobotColliders(const RobotConfig& config, const std::string& description,
-                               const std::string& world_frame, core::World* world)
-    : config_(config), world_frame_(world_frame), world_(world) {
+                               const std::string& world_frame, double max_distance,
+                               core::World* world)
+    : config_(config), world_frame_(world_frame), max_distance_(max_distance), world_(world) {
   if (!config.enabled) return;
   const std::string& key = config.description_param;
   if (description.empty()) {
@@ -100,40 +114,50 @@ RobotColliders::RobotColliders(const RobotConfig& config, const std::string& des
     }
     std::sort(names.begin(), names.end());
   }
-  for (const std::string& name : names) {
-    const urdf::LinkConstSharedPtr link = model->getLink(name);
-    if (!link) {
-      Problem("link '" + name + "' listed in ~robot/links is not in '" + key + "'; it is left out");
-      continue;
-    }
-    std::vector<urdf::CollisionSharedPtr> collisions = link->collision_array;
-    if (collisions.empty() && link->collision) collisions.push_back(link->collision);
-    Link entry;
-    entry.name = name;
-    for (const auto& collision : collisions) {
-      if (!collision || !collision->geometry) continue;
-      try {
-        core::Collider collider;
-        collider.name = name;
-        collider.shape = ShapeOf(*collision->geometry);
-        const auto friction = config.link_friction.find(name);
-        collider.friction =
-            friction != config.link_friction.end() ? friction->second : config.friction;
-        collider.enabled = false;  // until tf gives its pose
-        entry.colliders.push_back(world->AddCollider(collider));
-        entry.origins.push_back(ToIsometry(collision->origin));
-      } catch (const std::exception& e) {
-        Problem("a collision element of link '" + name + "' cannot be used (" + e.what() +
-                "); it is left out");
-      }
-    }
-    if (entry.colliders.empty()) {
-      ROS_WARN("msm_sim: robot: link '%s' has no usable collision geometry", name.c_str());
-      continue;
-    }
-    links_.push_back(std::move(entry));
-  }
+  for (const std::string& name : names) AddLink(*model, name);
   ROS_INFO("msm_sim: robot: %d links as colliders", static_cast<int>(links_.size()));
+}
+
+void RobotColliders::AddLink(const urdf::ModelInterface& model, const std::string& name) {
+  const urdf::LinkConstSharedPtr link = model.getLink(name);
+  if (!link) {
+    Problem("link '" + name + "' listed in ~robot/links is not in '" + config_.description_param +
+            "'; it is left out");
+    return;
+  }
+  const std::string clash = NameClash(*world_, name);
+  if (!clash.empty()) {
+    Problem("link '" + name + "' has the name of " + clash +
+            ", so their contacts could not be told apart; it is left out (rename the link or "
+            "the object)");
+    return;
+  }
+  std::vector<urdf::CollisionSharedPtr> collisions = link->collision_array;
+  if (collisions.empty() && link->collision) collisions.push_back(link->collision);
+  Link entry;
+  entry.name = name;
+  for (const auto& collision : collisions) {
+    if (!collision || !collision->geometry) continue;
+    try {
+      core::Collider collider;
+      collider.name = name;
+      collider.shape = ShapeOf(*collision->geometry);
+      const auto friction = config_.link_friction.find(name);
+      collider.friction =
+          friction != config_.link_friction.end() ? friction->second : config_.friction;
+      collider.enabled = false;  // until tf gives its pose
+      entry.colliders.push_back(world_->AddCollider(collider));
+      entry.origins.push_back(ToIsometry(collision->origin));
+    } catch (const std::exception& e) {
+      Problem("a collision element of link '" + name + "' cannot be used (" + e.what() +
+              "); it is left out");
+    }
+  }
+  if (entry.colliders.empty()) {
+    ROS_WARN("msm_sim: robot: link '%s' has no usable collision geometry", name.c_str());
+    return;
+  }
+  links_.push_back(std::move(entry));
 }
 
 int RobotColliders::LinkOfCollider(int collider) const {
@@ -163,48 +187,84 @@ Eigen::Isometry3d RobotColliders::PoseAt(const tf2::BufferCore& buffer, const st
 void RobotColliders::Update(const tf2::BufferCore& buffer, const ros::Time& now,
                             const ros::Time& at, double seconds) {
   for (Link& link : links_) {
-    bool fresh = false;
-    try {
-      const geometry_msgs::TransformStamped latest =
-          buffer.lookupTransform(world_frame_, link.name, ros::Time(0));
-      const ros::Time stamp = latest.header.stamp;
-      // Static transforms carry stamp 0 and never go stale.
-      fresh = stamp.isZero() || (now - stamp).toSec() <= config_.tf_timeout;
-      if (fresh) {
-        // Along tf's own samples, interpolated, tf_delay behind `at`: never ahead of tf (an
-        // extrapolated twist once carried a fingertip through a block), never a jump (a link
-        // seen for the first time, or again after its contacts were off, is placed at once).
-        const Eigen::Isometry3d pose = PoseAt(buffer, link.name, at, latest);
-        const double travel = link.live ? seconds : 0.0;
-        link.pose = pose;
-        link.stamp = stamp;
-        link.has_pose = true;
-        for (std::size_t k = 0; k < link.colliders.size(); ++k) {
-          MoveColliderTo(pose * link.origins[k], travel, &world_->collider(link.colliders[k]));
-        }
-      }
-    } catch (const tf2::TransformException& e) {
-      // Before a link's first pose this is start-up (robot_state_publisher not up yet).
-      if (link.has_pose) {
-        ROS_WARN_THROTTLE(1.0, "msm_sim: robot: no tf for link '%s' (%s); its contacts are off",
-                          link.name.c_str(), e.what());
-      } else {
-        ROS_INFO_THROTTLE(5.0, "msm_sim: robot: waiting for tf of link '%s'", link.name.c_str());
-      }
+    const bool live = UpdateLink(buffer, now, at, seconds, &link);
+    if (live && !link.live && link.was_live) {
+      ROS_INFO("msm_sim: robot: tf for link '%s' is back; its contacts are on", link.name.c_str());
     }
-    if (!fresh && link.live) {
+    link.was_live = link.was_live || live;
+    link.live = live;
+    for (const int c : link.colliders) world_->collider(c).enabled = live;
+  }
+}
+
+bool RobotColliders::UpdateLink(const tf2::BufferCore& buffer, const ros::Time& now,
+                                const ros::Time& at, double seconds, Link* link) {
+  geometry_msgs::TransformStamped latest;
+  try {
+    latest = buffer.lookupTransform(world_frame_, link->name, ros::Time(0));
+  } catch (const tf2::TransformException& e) {
+    // Before a link's first pose this is start-up (robot_state_publisher not up yet).
+    if (link->has_pose) {
+      ROS_WARN_THROTTLE(1.0, "msm_sim: robot: no tf for link '%s' (%s); its contacts are off",
+                        link->name.c_str(), e.what());
+    } else {
+      ROS_INFO_THROTTLE(5.0, "msm_sim: robot: waiting for tf of link '%s'", link->name.c_str());
+    }
+    return false;
+  }
+  // Static transforms carry stamp 0 and never go stale.
+  const ros::Time stamp = latest.header.stamp;
+  if (!stamp.isZero() && (now - stamp).toSec() > config_.tf_timeout) {
+    if (link->live) {
       ROS_WARN(
           "msm_sim: robot: tf for link '%s' is older than %.2f s; its contacts are off until "
           "tf returns",
-          link.name.c_str(), config_.tf_timeout);
+          link->name.c_str(), config_.tf_timeout);
     }
-    if (fresh && !link.live && link.was_live) {
-      ROS_INFO("msm_sim: robot: tf for link '%s' is back; its contacts are on", link.name.c_str());
-    }
-    link.was_live = link.was_live || fresh;
-    link.live = fresh;
-    for (const int c : link.colliders) world_->collider(c).enabled = fresh;
+    return false;
   }
+  // Along tf's own samples, interpolated, tf_delay behind `at`: never ahead of tf (an
+  // extrapolated twist once carried a fingertip through a block), never a jump (a link seen for
+  // the first time, or again after its contacts were off, is placed at once).
+  const Eigen::Isometry3d pose = PoseAt(buffer, link->name, at, latest);
+  const double travel = link->live ? seconds : 0.0;
+  // An absurd pose never reaches the colliders, whose swept motion would carry it into a
+  // contact force: the link is off until tf is sane again (its pose within bounds and still
+  // against the last one tf gave), then placed at once.
+  const std::string problem = PoseProblem(*link, pose, seconds);
+  link->seen = pose;
+  link->has_seen = true;
+  if (!problem.empty()) {
+    ROS_WARN_THROTTLE(1.0,
+                      "msm_sim: robot: tf pose of link '%s' refused: %s; its contacts are off "
+                      "until tf is sane again",
+                      link->name.c_str(), problem.c_str());
+    return false;
+  }
+  link->pose = pose;
+  link->stamp = stamp;
+  link->has_pose = true;
+  for (std::size_t k = 0; k < link->colliders.size(); ++k) {
+    MoveColliderTo(pose * link->origins[k], travel, &world_->collider(link->colliders[k]));
+  }
+  return true;
+}
+
+std::string RobotColliders::PoseProblem(const Link& link, const Eigen::Isometry3d& pose,
+                                        double seconds) const {
+  std::ostringstream problem;
+  const double distance = pose.translation().norm();
+  if (!pose.matrix().allFinite() || distance > max_distance_) {
+    problem << "it lies " << distance
+            << " m from the world origin, beyond ~world/max_distance = " << max_distance_ << " m";
+  } else if (seconds > 0.0 && link.has_seen) {
+    const double speed = (pose.translation() - link.seen.translation()).norm() / seconds;
+    if (speed > config_.max_link_speed) {
+      problem << "it would move the link at " << speed
+              << " m/s, faster than ~robot/max_link_speed = " << config_.max_link_speed << " m/s";
+    }
+  }
+  return problem.str();
 }
 
 }  // namespace msm_sim::ros_interface

@@ -12,6 +12,10 @@
 #include <Eigen/Geometry>
 
 #include "msm_sim/dynamics/world.h"
+
+namespace urdf {
+class ModelInterface;
+}  // namespace urdf
 #include "simulation_config.h"
 
 namespace msm_sim::ros_interface {
@@ -27,13 +31,19 @@ class RobotColliders {
     bool has_pose = false;
     bool live = false;      // tf is fresh: contacts on
     bool was_live = false;  // has been live before (for the "is back" message)
+    // The pose tf gave last, taken or refused: a link is taken again only once its tf pose
+    // moves no faster than robot/max_link_speed from it.
+    Eigen::Isometry3d seen = Eigen::Isometry3d::Identity();
+    bool has_seen = false;
   };
 
   /// Adds a collider per collision element of the selected links of the URDF `description`
-  /// (empty: none was found). A missing or malformed description, an unknown link or an unreadable
-  /// mesh is reported with ROS_ERROR and left out: the simulation runs on without it.
+  /// (empty: none was found). A missing or malformed description, an unknown link, an unreadable
+  /// mesh or a link with the name of a collider or object already in `world` is reported with
+  /// ROS_ERROR and left out: the simulation runs on without it. Link poses farther than
+  /// `max_distance` (m) from the world origin are refused (Update).
   RobotColliders(const RobotConfig& config, const std::string& description,
-                 const std::string& world_frame, core::World* world);
+                 const std::string& world_frame, double max_distance, core::World* world);
 
   /// Sends the links' colliders towards their tf poses at ROS time `at` minus robot/tf_delay
   /// (interpolated between tf's samples; the latest pose when `at` is past it), to be reached
@@ -41,7 +51,8 @@ class RobotColliders {
   /// the twist that takes it there in that time, never jumping. A link seen for the first time,
   /// or again after its contacts were off, is placed at once. A link whose latest transform is
   /// missing or older than tf_timeout at `now` gets its contacts turned off (throttled warning)
-  /// until tf returns.
+  /// until tf returns; so does one whose pose lies beyond max_distance or would move it faster
+  /// than robot/max_link_speed, and the colliders never take that pose.
   void Update(const tf2::BufferCore& buffer, const ros::Time& now, const ros::Time& at,
               double seconds);
 
@@ -54,10 +65,19 @@ class RobotColliders {
  private:
   RobotConfig config_;
   std::string world_frame_;
+  double max_distance_;
   core::World* world_;
   std::vector<Link> links_;
   std::vector<std::string> problems_;
   void Problem(const std::string& message);
+  /// Adds link `name` of `model` with a collider per collision element, or reports why not.
+  void AddLink(const urdf::ModelInterface& model, const std::string& name);
+  /// Update for one link; returns whether its contacts are on for the next step.
+  bool UpdateLink(const tf2::BufferCore& buffer, const ros::Time& now, const ros::Time& at,
+                  double seconds, Link* link);
+  /// Empty if the link may take `pose`, `seconds` after the pose tf gave last (0: no speed
+  /// check); else why not.
+  std::string PoseProblem(const Link& link, const Eigen::Isometry3d& pose, double seconds) const;
   /// The link's pose at `at` - tf_delay, or `latest` (its latest transform) when that time is
   /// past it, before the buffer's oldest sample, or the transform is static.
   Eigen::Isometry3d PoseAt(const tf2::BufferCore& buffer, const std::string& link,

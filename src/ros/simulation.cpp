@@ -29,6 +29,8 @@ core::WorldOptions WorldOptionsOf(const WorldConfig& config) {
   options.penetration_recovery_time = config.penetration_recovery_time;
   options.penetration_max_speed = config.penetration_max_speed;
   options.record_contact_points = true;  // ~contact_points, ~links/<link>/pressure
+  options.max_pending_pushes = config.max_pending_pushes;
+  options.max_pending_force = config.max_pending_force;
   return options;
 }
 
@@ -55,6 +57,16 @@ std::string SubstepProblem(const WorldConfig& world, double stable_step) {
   return problem.str();
 }
 
+// Empty if `point` (m, world) lies within ~world/max_distance of the origin; else why not. A
+// finite but huge pose (a link's tf at 10^30 m) once reversed a contact force silently.
+std::string DistanceProblem(const Eigen::Vector3d& point, double max_distance) {
+  if (point.norm() <= max_distance) return {};
+  std::ostringstream problem;
+  problem << "the point lies " << point.norm() << " m from the world origin, beyond "
+          << "~world/max_distance = " << max_distance << " m";
+  return problem.str();
+}
+
 }  // namespace
 
 Simulation::Simulation(const SimulationConfig& config, const std::string& robot_description)
@@ -62,7 +74,7 @@ Simulation::Simulation(const SimulationConfig& config, const std::string& robot_
   if (config_.world.ground) AddGround();
   for (std::size_t i = 0; i < config_.objects.size(); ++i) AddObject(i);
   robot_ = std::make_unique<RobotColliders>(config_.robot, robot_description, config_.world.frame,
-                                            &world_);
+                                            config_.world.max_distance, &world_);
   contact_averages_.resize(objects_.size());
 
   for (const WrenchInputConfig& input_config : config_.wrench_inputs) {
@@ -145,8 +157,20 @@ std::string Simulation::ApplyForce(const msm_sim::ContactForce& message,
   if (!LookUp(tf, message.header.frame_id, message.header.stamp, &to_world, &error)) {
     return "unknown frame '" + message.header.frame_id + "' (" + error + ")";
   }
-  world_.ApplyForce(objects_[object].body, to_world * point, to_world.linear() * force,
-                    message.radius, message.duration);
+  const Eigen::Vector3d world_point = to_world * point;
+  const std::string far = DistanceProblem(world_point, config_.world.max_distance);
+  if (!far.empty()) return far + " (in frame '" + message.header.frame_id + "')";
+  const int dropped =
+      world_.ApplyForce(objects_[object].body, world_point, to_world.linear() * force,
+                        message.radius, message.duration);
+  if (dropped > 0) {
+    ROS_WARN_THROTTLE(1.0,
+                      "msm_sim: ~apply_force: object '%s' had more pending pushes than "
+                      "~world/max_pending_pushes (%d) or ~world/max_pending_force (%g N); the "
+                      "oldest %d dropped",
+                      message.object.c_str(), config_.world.max_pending_pushes,
+                      config_.world.max_pending_force, dropped);
+  }
   return {};
 }
 
@@ -178,6 +202,8 @@ std::string Simulation::SetWrench(std::size_t index, const geometry_msgs::Wrench
   if (!LookUp(tf, message.header.frame_id, message.header.stamp, &to_world, &error)) {
     return "unknown frame '" + message.header.frame_id + "' (" + error + ")";
   }
+  const std::string far = DistanceProblem(to_world.translation(), config_.world.max_distance);
+  if (!far.empty()) return far + " (the origin of frame '" + message.header.frame_id + "')";
   input.active = true;
   input.received = now;
   input.point = to_world.translation();

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -102,6 +103,13 @@ struct WorldConfig {
   /// only keeps the simulation from running ahead of the wall clock.
   bool publish_clock = false;
   double max_force = 1e4;  ///< N; larger applied forces are dropped as absurd
+  /// m: a pose or point farther than this from the world origin (a link's tf, a message's
+  /// frame or point, an object's pose, the ground) is refused as absurd (docs/robustness.md).
+  double max_distance = 500.0;
+  /// Per object, the ~apply_force pushes still acting (duration > 0) at most, and the sum of
+  /// their |force| (N) at most: beyond either the oldest are dropped (core::WorldOptions).
+  int max_pending_pushes = 100;
+  double max_pending_force = 1e4;
   /// Fraction of the explicit stability limit used as substep, (0, 1]: lower is slower but
   /// resolves contacts more finely (docs/physics.md §7).
   double time_step_safety = 0.8;
@@ -141,6 +149,9 @@ struct RobotConfig {
   /// tf's samples (interpolated) instead of waiting at the latest one for the next; at least
   /// the period of the joint states plus one publication period.
   double tf_delay = 0.1;
+  /// m/s: a link's tf pose that would move it faster than this is refused, as a pose beyond
+  /// world/max_distance is: its contacts turn off until tf is sane again.
+  double max_link_speed = 10.0;
 };
 
 struct SimulationConfig {
@@ -150,6 +161,9 @@ struct SimulationConfig {
   MarkerConfig markers;
   RobotConfig robot;
 };
+
+/// The names no object, clamp or robot collider may take: the world frame and "ground".
+std::set<std::string> ReservedNames(const WorldConfig& world);
 
 /// Reads ~world, ~objects, ~wrench_inputs and ~markers (and ~materials for objects that name a
 /// material) from the private namespace. Mesh URIs (package://, file://, plain paths) are

@@ -230,6 +230,37 @@ TEST(World, PushesSpreadOverNearbyNodesByMass) {
                std::invalid_argument);
 }
 
+// A stream of long pushes keeps at most max_pending_pushes per body and at most
+// max_pending_force (N) summed over them, the oldest dropped first; the momentum they give is
+// that of the pushes kept.
+TEST(World, PendingPushesStayWithinTheirBounds) {
+  WorldOptions options{Eigen::Vector3d::Zero()};
+  options.max_pending_pushes = 3;
+  options.max_pending_force = 10.0;
+  World world(options);
+  const auto block = Block();
+  const int body = world.AddBody("block", block);
+  const Eigen::Vector3d centre(0.1, 0.1, 0.1), up(0, 0, 1);
+  std::vector<int> dropped;
+  for (int k = 0; k < 5; ++k) dropped.push_back(world.ApplyForce(body, centre, up, 0.05, 1.0));
+  EXPECT_EQ(dropped, (std::vector<int>{0, 0, 0, 1, 1}));
+  ASSERT_TRUE(world.Step(1e-3).accepted);
+  const auto momentum = [&] {
+    return Eigen::Vector3d(world.state(body).velocities * block->masses());
+  };
+  EXPECT_LT((momentum() - 3e-3 * up).norm(), 1e-9);  // three 1 N pushes for 1 ms
+  // 3 + 9 N is over the force bound: the two oldest go, 1 + 9 N stay.
+  EXPECT_EQ(world.ApplyForce(body, centre, 9.0 * up, 0.05, 1.0), 2);
+  ASSERT_TRUE(world.Step(1e-3).accepted);
+  EXPECT_LT((momentum() - 13e-3 * up).norm(), 1e-9);
+  // A lone push above the bound still acts, alone.
+  EXPECT_EQ(world.ApplyForce(body, centre, 20.0 * up, 0.05, 1.0), 2);
+  ASSERT_TRUE(world.Step(1e-3).accepted);
+  EXPECT_LT((momentum() - 33e-3 * up).norm(), 1e-9);
+  options.max_pending_pushes = 0;
+  EXPECT_THROW(World{options}, std::invalid_argument);
+}
+
 TEST(World, ResetRestoresTheRestState) {
   World world;
   const auto block = Block();

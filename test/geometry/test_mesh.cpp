@@ -223,7 +223,7 @@ TEST(MeshImport, BrokenFilesGiveOneClearLine) {
   MeshImportOptions bad_scale;
   bad_scale.scale = -1.0;
   ExpectImportError("tetrahedron.off", "scale must be", bad_scale);
-  ExpectImportError("", "not a regular file");  // the directory itself
+  ExpectImportError("", "is a directory");  // the directory itself
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <nlohmann/json.hpp>
 
 #include "run_lab.h"
@@ -242,6 +243,23 @@ TEST(LabCliFit, BadCurvesGetOneLineNamingTheRow) {
   EXPECT_EQ(name.exit_code, 2);
   EXPECT_NE(name.err.find("not a parameter name"), std::string::npos) << name.err;
   std::remove(csv.c_str());
+}
+
+// A curve path that is a FIFO (or a device) is refused at once: opening it would wait for a
+// writer forever. Every reader of a user's path checks first (core::RegularFileProblem).
+TEST(LabCliFit, AFifoCurveIsRefusedWithoutOpeningIt) {
+  const std::string fifo = TempPath("curve_fifo.csv");
+  std::remove(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  for (const std::string& command :
+       {"fit --tensile " + fifo, "fit --indent " + fifo + " " + kSmallFit + " --poisson 0.3",
+        std::string("fit --tensile /dev/null")}) {
+    const LabRun run = RunLab(command);
+    EXPECT_EQ(run.exit_code, 2) << command;
+    EXPECT_EQ(CountLines(run.err), 1) << run.err;
+    EXPECT_NE(run.err.find("not a regular file"), std::string::npos) << run.err;
+  }
+  std::remove(fifo.c_str());
 }
 
 }  // namespace

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include "../run_command.h"
@@ -96,6 +98,49 @@ std::vector<Scene> WorldScenes() {
       {{{"world/ground/height", "-.inf"}}, "~world/ground/height"},
       {{{"world/gravty", "[0, 0, -9.81]"}}, "~world/gravty"},
       {{{"world", "[]"}}, "~world"},
+  };
+}
+
+// ~world: finite values far beyond any robot scene (they wrecked the run before: NaN contact
+// points, every step rejected), each refused naming the key.
+std::vector<Scene> AbsurdWorldScenes() {
+  return {
+      {{{"world/ground/height", "1.0e+300"}}, "~world/ground/height"},
+      {{{"world/ground/height", "-600"}}, "~world/ground/height"},
+      {{{"world/gravity", "[0, 0, -1.0e+30]"}}, "~world/gravity"},
+      {{{"world/gravity", "[2000, 0, 0]"}}, "~world/gravity"},
+      {{{"world/ground/friction", "1.0e+300"}}, "~world/ground/friction"},
+      {{{"world/time_step", "10"}}, "~world/time_step"},
+      {{{"world/publish_rate", "1.0e+9"}}, "~world/publish_rate"},
+      {{{"world/max_force", "1.0e+300"}}, "~world/max_force"},
+      {{{"world/max_distance", "1.0e+30"}}, "~world/max_distance"},
+      {{{"world/max_distance", "0"}}, "~world/max_distance"},
+      {{{"world/max_pending_pushes", "0"}}, "~world/max_pending_pushes"},
+      {{{"world/max_pending_pushes", "1.0e+12"}}, "~world/max_pending_pushes"},
+      {{{"world/max_pending_force", "-1"}}, "~world/max_pending_force"},
+      {{{"world/penetration_recovery_time", "1.0e+20"}}, "~world/penetration_recovery_time"},
+      {{{"world/penetration_max_speed", "1.0e+6"}}, "~world/penetration_max_speed"},
+      {{{"objects/0/pose/position", "[0, 0, 1.0e+30]"}}, "~objects[0]/pose/position"},
+      {{{"robot/friction", "1.0e+300"}}, "~robot/friction"},
+      {{{"robot/max_link_speed", "0"}}, "~robot/max_link_speed"},
+  };
+}
+
+// Names that clash with the world frame or the ground, or are not ROS names (roscpp ended the
+// node with its own text for them).
+std::vector<Scene> NameScenes() {
+  return {
+      {{{"objects/0/name", "world"}}, "~objects[0]/name"},
+      {{{"objects/0/name", "ground"}}, "~objects[0]/name"},
+      {{{"objects/0/name", "'a/b c'"}}, "~objects[0]/name"},
+      {{{"objects/0/name", "'2nd_block'"}}, "~objects[0]/name"},
+      {{{"objects/0/clamps/0/name", "ground"}}, "~objects[0]/clamps[0]/name"},
+      {{{"objects/0/clamps/0/name", "'table clamp'"}}, "~objects[0]/clamps[0]/name"},
+      {{{"objects/0/clamps/+", "{name: table_clamp, half_space: {point: [0, 0, 0.005]}}"}},
+       "~objects[0]/clamps[1]/name"},
+      {{{"world/frame", "map"}, {"objects/0/name", "map"}}, "~objects[0]/name"},
+      {{{"wrench_inputs", "[{topic: 'bad topic!!', object: soft_block}]"}},
+       "~wrench_inputs[0]/topic"},
   };
 }
 
@@ -225,8 +270,8 @@ std::vector<Scene> InputRobotMarkerScenes() {
 // missing meshes, absurd node counts.
 std::vector<Scene> MalformedScenes() {
   std::vector<Scene> scenes;
-  for (const auto& part :
-       {WorldScenes(), ObjectMaterialScenes(), ObjectShapeScenes(), InputRobotMarkerScenes()}) {
+  for (const auto& part : {WorldScenes(), AbsurdWorldScenes(), NameScenes(), ObjectMaterialScenes(),
+                           ObjectShapeScenes(), InputRobotMarkerScenes()}) {
     scenes.insert(scenes.end(), part.begin(), part.end());
   }
   return scenes;
@@ -248,36 +293,71 @@ std::vector<std::string> Lines(const std::string& text) {
   return lines;
 }
 
+// Runs msm_replay on `scene` changed by `edits`, killed after 60 s (a hang fails instead of
+// stalling the suite); *seconds gets its wall time.
+msm_sim::testing::CommandRun RunScene(const std::vector<Edit>& edits, double* seconds) {
+  const std::string path = ::testing::TempDir() + "config_fuzz_scene.yaml";
+  const std::string out = ::testing::TempDir() + "config_fuzz_out.bag";
+  YAML::Node tree = BaseScene();
+  for (const Edit& e : edits) Apply(tree, Split(e.path), 0, e.value);
+  std::ofstream(path) << YAML::Dump(tree) << "\n";
+  const auto start = std::chrono::steady_clock::now();
+  const msm_sim::testing::CommandRun run = msm_sim::testing::RunCommand(
+      "timeout -s KILL 60 " + std::string(MSM_REPLAY_EXECUTABLE) + " --quiet --config " + path +
+      " --materials " + kPackage + "/config/materials.yaml --in " + kData +
+      "/demo_input.bag --out " + out);
+  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return run;
+}
+
+// The run ended with exit code 1 and one line naming the scene's parameter.
+void ExpectOneErrorLine(const msm_sim::testing::CommandRun& run, const Scene& scene) {
+  const std::vector<std::string> lines = Lines(run.err);
+  EXPECT_FALSE(run.signalled) << Describe(scene);
+  EXPECT_EQ(run.exit_code, 1) << Describe(scene) << "\n" << run.err;
+  EXPECT_EQ(lines.size(), 1u) << Describe(scene) << "\n" << run.err;
+  if (lines.empty()) return;
+  EXPECT_EQ(lines[0].rfind("msm_replay: error: parameter ", 0), 0u) << lines[0];
+  EXPECT_NE(lines[0].find(scene.names), std::string::npos)
+      << Describe(scene) << "\nexpected to name " << scene.names << "\n"
+      << lines[0];
+}
+
 TEST(ConfigFuzz, EachMalformedSceneIsOneErrorNamingTheParameter) {
   const std::vector<Scene> scenes = MalformedScenes();
   ASSERT_GE(scenes.size(), 50u);
-  const std::string path = ::testing::TempDir() + "config_fuzz_scene.yaml";
-  const std::string out = ::testing::TempDir() + "config_fuzz_out.bag";
   double worst_seconds = 0.0;
   for (const Scene& scene : scenes) {
-    YAML::Node tree = BaseScene();
-    for (const Edit& e : scene.edits) Apply(tree, Split(e.path), 0, e.value);
-    std::ofstream(path) << YAML::Dump(tree) << "\n";
-    const auto start = std::chrono::steady_clock::now();
-    const msm_sim::testing::CommandRun run = msm_sim::testing::RunCommand(
-        std::string(MSM_REPLAY_EXECUTABLE) + " --quiet --config " + path + " --materials " +
-        kPackage + "/config/materials.yaml --in " + kData + "/demo_input.bag --out " + out);
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    double seconds = 0.0;
+    const msm_sim::testing::CommandRun run = RunScene(scene.edits, &seconds);
     worst_seconds = std::max(worst_seconds, seconds);
-    const std::vector<std::string> lines = Lines(run.err);
-    EXPECT_FALSE(run.signalled) << Describe(scene);
-    EXPECT_EQ(run.exit_code, 1) << Describe(scene) << "\n" << run.err;
-    EXPECT_EQ(lines.size(), 1u) << Describe(scene) << "\n" << run.err;
-    if (lines.empty()) continue;
-    EXPECT_EQ(lines[0].rfind("msm_replay: error: parameter ", 0), 0u) << lines[0];
-    EXPECT_NE(lines[0].find(scene.names), std::string::npos)
-        << Describe(scene) << "\nexpected to name " << scene.names << "\n"
-        << lines[0];
+    ExpectOneErrorLine(run, scene);
     EXPECT_LT(seconds, 5.0) << Describe(scene);
-    std::printf("  %-60.60s %.2f s | %s\n", Describe(scene).c_str(), seconds, lines[0].c_str());
+    const std::vector<std::string> lines = Lines(run.err);
+    std::printf("  %-60.60s %.2f s | %s\n", Describe(scene).c_str(), seconds,
+                lines.empty() ? "" : lines[0].c_str());
   }
   std::printf("  %zu malformed scenes, worst %.2f s\n", scenes.size(), worst_seconds);
+}
+
+// A mesh path that is a FIFO hung start-up forever (the file was opened before it was known
+// to be a regular file); now it is refused before anything opens it.
+TEST(ConfigFuzz, AFifoMeshPathIsRefusedWithinASecond) {
+  const std::string fifo =
+      ::testing::TempDir() + "config_fuzz_fifo_" + std::to_string(::getpid()) + ".stl";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::vector<Scene> scenes = {
+      {{{"objects/0/shape", "{type: mesh, uri: '" + fifo + "'}"}}, "~objects[0]/shape/uri"},
+      {{{"objects/0/visual_mesh", "'file://" + fifo + "'"}}, "~objects[0]/visual_mesh"},
+  };
+  for (const Scene& scene : scenes) {
+    double seconds = 0.0;
+    const msm_sim::testing::CommandRun run = RunScene(scene.edits, &seconds);
+    ExpectOneErrorLine(run, scene);
+    EXPECT_NE(run.err.find("not a regular file"), std::string::npos) << run.err;
+    EXPECT_LT(seconds, 1.0) << Describe(scene);
+  }
+  std::remove(fifo.c_str());
 }
 
 }  // namespace

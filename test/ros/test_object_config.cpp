@@ -69,14 +69,14 @@ XmlRpcValue Scene(const XmlRpcValue& object) {
 
 ObjectConfig ReadOne(const XmlRpcValue& object) {
   XmlRpcValue root = Scene(object);
-  return ReadObjects(root).at(0);
+  return ReadObjects(root, WorldConfig{}).at(0);
 }
 
 // ReadObjects's message for the object; fails the test unless it is one ConfigError line.
 std::string Error(const XmlRpcValue& object) {
   XmlRpcValue root = Scene(object);
   try {
-    ReadObjects(root);
+    ReadObjects(root, WorldConfig{});
   } catch (const ConfigError& e) {
     EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
     return e.what();
@@ -181,7 +181,7 @@ TEST(ObjectSpringLaw, AMaterialsBadTensileLawNamesTheMaterial) {
   root["materials"]["bad"] = FittedMaterial();
   root["materials"]["bad"]["tensile_law"]["beta"] = -1.0;
   try {
-    ReadObjects(root);
+    ReadObjects(root, WorldConfig{});
     ADD_FAILURE() << "the material was accepted";
   } catch (const ConfigError& e) {
     EXPECT_CONTAINS(std::string(e.what()), "parameter ~materials/bad/tensile_law/beta");

@@ -82,15 +82,17 @@ class World {
   int AddKinematicGroup(int body, const KinematicGroup& group);
   /// Pushes a body with `force` (N, world) at `point` (m, world): the force is shared by the
   /// nodes within `radius` of the point (the nearest node if none), in proportion to their
-  /// masses, for `duration` seconds (0: the next Step only). Throws std::invalid_argument for
-  /// non-finite values, a negative radius or duration, or an unknown body.
-  void ApplyForce(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
-                  double radius, double duration);
+  /// masses, for `duration` seconds (0: the next Step only). Beyond the body's pending-push
+  /// bounds (WorldOptions::max_pending_pushes, max_pending_force) the oldest pending pushes are
+  /// dropped; returns how many. Throws std::invalid_argument for non-finite values, a negative
+  /// radius or duration, or an unknown body.
+  int ApplyForce(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                 double radius, double duration);
   /// A wrench at `point`: the force as in ApplyForce, the torque (N m, world) as forces
   /// tau x r_i / sum |r_j|^2 on the same nodes (r from the point), which sum to zero and whose
   /// moment about the point is tau when the nodes surround it evenly. Throws as ApplyForce.
-  void ApplyWrench(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
-                   const Eigen::Vector3d& torque, double radius, double duration);
+  int ApplyWrench(int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                  const Eigen::Vector3d& torque, double radius, double duration);
   /// Swaps a body's model for one with the same nodes (a recalibrated material), keeping its
   /// state, groups and pushes. Throws std::invalid_argument if the node counts differ, and as
   /// AddBody.

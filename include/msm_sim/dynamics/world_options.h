@@ -39,6 +39,12 @@ struct WorldOptions {
   /// A step that would move any node faster than this (m/s) is rejected: no soft object a robot
   /// handles gets there, but a diverging simulation or an absurd force does.
   double max_speed = 100.0;
+  /// Per body, the pushes (ApplyForce, ApplyWrench) pending at most (>= 1), and the sum of the
+  /// magnitudes of the node forces they hold at most (N, > 0): a new push beyond either drops
+  /// the oldest pending ones first, so that a stream of long pushes keeps the step's cost and
+  /// the memory bounded. A lone push above max_pending_force still acts.
+  int max_pending_pushes = 100;
+  double max_pending_force = 1e4;
   /// Explicit only: a step that diverges (fails the max_speed check) while no push is in flight
   /// is taken again from its start with twice the substeps, up to this factor (a power of 2,
   /// >= 1; 1 turns it off), and the World keeps the finer substep from then on. The stable step
