@@ -41,8 +41,7 @@ std::shared_ptr<const Model> RealtimeBlock(double spacing, double poisson,
 }
 
 // Arguments: spacing (um), nu (per mille), precision (0 double, 1 single), threads, surface
-// dispersion (per cent), and for BM_RealtimeBlockImplicit the preconditioner (0 Jacobi, 1
-// multigrid).
+// dispersion (per cent).
 RealtimeExperimentResult RunRealtime(benchmark::State& state,
                                      const RealtimeExperimentOptions& options) {
   const auto block =
@@ -77,9 +76,7 @@ BENCHMARK(BM_RealtimeBlock)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
-// The implicit integrator (one 1 ms substep a step) on the same blocks. The multigrid is set up in
-// the first step, once per run: its cost is in the time (compare runs of different lengths to
-// separate it).
+// The implicit integrator (one 1 ms substep a step) on the same blocks.
 void BM_RealtimeBlockImplicit(benchmark::State& state) {
   RealtimeExperimentOptions options;
   options.seconds = 0.1;
@@ -87,13 +84,11 @@ void BM_RealtimeBlockImplicit(benchmark::State& state) {
   options.spring_precision =
       state.range(2) == 1 ? SpringPrecision::kSingle : SpringPrecision::kDouble;
   options.threads = static_cast<int>(state.range(3));
-  options.implicit_preconditioner =
-      state.range(5) == 1 ? ImplicitPreconditioner::kMultigrid : ImplicitPreconditioner::kJacobi;
   RunRealtime(state, options);
 }
 BENCHMARK(BM_RealtimeBlockImplicit)
-    ->ArgNames({"spacing_um", "nu_permille", "single", "threads", "surface_pct", "multigrid"})
-    ->ArgsProduct({{5000, 4000, 3000}, {250, 490}, {1}, {1}, {100}, {0, 1}})
+    ->ArgNames({"spacing_um", "nu_permille", "single", "threads", "surface_pct"})
+    ->ArgsProduct({{5000, 4000, 3000}, {250, 490}, {1}, {1}, {100}})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);

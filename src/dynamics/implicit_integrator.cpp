@@ -13,8 +13,6 @@
 #include "dynamics/node_stages.h"
 #include "dynamics/world_internal.h"
 #include "mechanics/masked_pcg.h"
-#include "mechanics/multigrid_preconditioner.h"
-#include "msm_sim/model/body_frame.h"
 
 namespace msm_sim::core::internal {
 namespace {
@@ -171,8 +169,8 @@ int ImplicitIntegrator::SolveKick(Body* body, double h, double t0, double c,
       if (contact.friction_hold == FrictionHold::kSliding)
         b_pass.col(contact.node) += contact.sliding_impulse;
     }
-    iterations += SolvePreconditioned(body, c, apply, b_pass, projection, inverse_diagonal, solver,
-                                      &dv, residual);
+    iterations += SolveMaskedPcg(apply, b_pass, projection, inverse_diagonal, solver, &dv, residual)
+                      .iterations;
     // A hold that pulls the node into the collider is released, a stick that leaves Coulomb's
     // cone slides and a slide that turns sticks, a node that would pass its speculative
     // contact's surface is held, and the system solved again. After the last solve the friction
@@ -185,33 +183,6 @@ int ImplicitIntegrator::SolveKick(Body* body, double h, double t0, double c,
     if (!changed) break;
   }
   return iterations;
-}
-
-int ImplicitIntegrator::SolvePreconditioned(Body* body, double c, const NodeArrayOperator& apply,
-                                            const Eigen::Matrix3Xd& b,
-                                            const DofProjection& projection,
-                                            const Eigen::Matrix3Xd& inverse_diagonal,
-                                            const MaskedPcgOptions& solver, Eigen::Matrix3Xd* dv,
-                                            Eigen::Matrix3Xd* residual) const {
-  if (world_.options.implicit_preconditioner == ImplicitPreconditioner::kJacobi) {
-    return SolveMaskedPcg(apply, b, projection, inverse_diagonal, solver, dv, residual).iterations;
-  }
-  // Built for the body's kinematic nodes: at its first implicit kick, and again when they change.
-  if (!body->multigrid || body->multigrid->held() != body->constrained) {
-    body->multigrid = MultigridPreconditioner::ForRestState(*body->model, body->constrained);
-  }
-  body->multigrid->SetStepFactor(c);
-  const MultigridPreconditioner& multigrid = *body->multigrid;
-  const Eigen::Matrix3d rotation = BodyFrame(*body->model, body->state).linear();
-  const NodeArrayPreconditioner v_cycle = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z) {
-    multigrid.Apply(apply, inverse_diagonal, projection, rotation, r, z);
-  };
-  const MaskedPcgReport report =
-      SolveMaskedPcg(apply, b, projection, v_cycle, solver, dv, residual);
-  if (report.converged) return report.iterations;
-  body->multigrid->ForgetFineEigenvalue();
-  return report.iterations +
-         SolveMaskedPcg(apply, b, projection, inverse_diagonal, solver, dv, residual).iterations;
 }
 
 }  // namespace msm_sim::core::internal

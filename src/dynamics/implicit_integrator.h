@@ -128,15 +128,6 @@ class ImplicitIntegrator {
   /// linearised.
   int SolveKick(Body* body, double h, double t0, double c, std::vector<ContactNormal>* held,
                 std::vector<ContactNormal>* speculative, Eigen::Matrix3Xd* residual);
-  /// Solves (M + c K) dv = b on the range of `projection` from the start *dv, preconditioned as
-  /// WorldOptions::implicit_preconditioner asks. Should the multigrid solve stop unconverged (at
-  /// max_iterations, or on a V-cycle found not positive, as an underestimated largest eigenvalue
-  /// of the fine level makes it), Jacobi takes over from where it stopped and the estimate is
-  /// taken again at the next kick. Returns the iterations of both.
-  int SolvePreconditioned(Body* body, double c, const NodeArrayOperator& apply,
-                          const Eigen::Matrix3Xd& b, const DofProjection& projection,
-                          const Eigen::Matrix3Xd& inverse_diagonal, const MaskedPcgOptions& solver,
-                          Eigen::Matrix3Xd* dv, Eigen::Matrix3Xd* residual) const;
   /// The velocity change (m/s, 3 x N) a kinematic group prescribes to its nodes over the
   /// substep [t0, t0 + h] (zero columns for free nodes).
   static Eigen::Matrix3Xd PrescribedVelocityChanges(const Body& body, double h, double t0);

@@ -21,8 +21,6 @@
 
 namespace msm_sim::core::internal {
 
-class MultigridPreconditioner;  // mechanics/multigrid_preconditioner.h
-
 /// A force applied with World::ApplyForce or ApplyWrench, shared by the nodes it reaches.
 struct Push {
   std::vector<NodeIndex> nodes;
@@ -136,9 +134,6 @@ struct Body {
   std::vector<PendingResponse> saved_pending;
   Eigen::Matrix3Xd forces;
   Eigen::Matrix3Xd implicit_dv, saved_implicit_dv;  // last implicit kick: the next one's start
-  // The implicit solve's multigrid (WorldOptions::implicit_preconditioner), built for `model` and
-  // `constrained` at the first implicit kick that needs it; a new model makes a new Body.
-  std::shared_ptr<MultigridPreconditioner> multigrid;
   // Per node, the Coulomb impulse of the last implicit kick's sliding contact (0: stuck, or no
   // contact): the next kick starts that contact sliding with it (docs/physics.md §7.1).
   Eigen::Matrix3Xd sliding_friction, saved_sliding_friction;

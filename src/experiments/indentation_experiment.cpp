@@ -172,7 +172,6 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   WorldOptions world_options;
   world_options.gravity.setZero();
   world_options.integrator = options.integrator;
-  world_options.implicit_preconditioner = options.implicit_preconditioner;
   world_options.spring_precision = options.spring_precision;
   world_options.implicit_max_substep = options.step;
   world_options.time_step_safety = options.time_step_safety;

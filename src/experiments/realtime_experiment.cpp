@@ -33,7 +33,6 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   WorldOptions world_options;
   world_options.gravity = Eigen::Vector3d(0.0, 0.0, -options.gravity);
   world_options.integrator = options.integrator;
-  world_options.implicit_preconditioner = options.implicit_preconditioner;
   world_options.implicit_max_substep = options.step;
   world_options.threads = options.threads;
   world_options.spring_precision = options.spring_precision;

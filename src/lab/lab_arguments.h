@@ -75,12 +75,9 @@ struct ContactArguments {
   /// indent: > 0, also start the sphere this far inside the block and hold it (m)
   double start_depth = 0.0;
   std::string integrator = "explicit";  ///< explicit | implicit (WorldOptions::integrator)
-  /// jacobi | multigrid (WorldOptions::implicit_preconditioner)
-  std::string preconditioner =
-      core::ImplicitPreconditionerName(core::WorldOptions().implicit_preconditioner);
-  int threads = 1;                   ///< realtime: WorldOptions::threads
-  double time_step_safety = 0.8;     ///< realtime: WorldOptions::time_step_safety, (0, 1]
-  std::string precision = "single";  ///< single | double (WorldOptions::spring_precision)
+  int threads = 1;                      ///< realtime: WorldOptions::threads
+  double time_step_safety = 0.8;        ///< realtime: WorldOptions::time_step_safety, (0, 1]
+  std::string precision = "single";     ///< single | double (WorldOptions::spring_precision)
 };
 
 /// `msm_lab fit`: the Young's modulus that reproduces a measured indentation curve.

@@ -42,7 +42,6 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.damping_beta = contact.damping;
   options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
-  options.implicit_preconditioner = PreconditionerNamed(contact.preconditioner);
   options.threads = contact.threads;
   options.spring_precision = PrecisionNamed(contact.precision);
   options.time_step_safety = contact.time_step_safety;
@@ -66,8 +65,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
       << "integrator       " << result.integrator << ", step " << 1e3 * result.step << " ms in "
       << result.substeps << " substeps of " << 1e3 * result.substep << " ms";
   if (options.integrator == core::Integrator::kImplicit) {
-    out << ", " << result.solver_iterations_per_step << " CG iterations per step ("
-        << contact.preconditioner << ")";
+    out << ", " << result.solver_iterations_per_step << " CG iterations per step";
   }
   out << "\n"
       << "simulated        " << result.seconds_simulated << " s in " << result.wall_seconds
@@ -129,7 +127,6 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.friction = contact.friction;
   options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
-  options.implicit_preconditioner = PreconditionerNamed(contact.preconditioner);
   options.spring_precision = PrecisionNamed(contact.precision);
   const auto model = LabBlock(arguments.model);
   const core::IndentationExperimentResult result = core::RunIndentationExperiment(model, options);
@@ -154,11 +151,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   }
   PrintScene(arguments, "indentation, base clamped", out);
   PrintModelTable(arguments.model, core::ComputeModelStatistics(*model), out);
-  out << "integrator       " << contact.integrator
-      << (options.integrator == core::Integrator::kImplicit
-              ? " (" + contact.preconditioner + " preconditioner)"
-              : std::string())
-      << ", step " << 1e3 * options.step << " ms\n"
+  out << "integrator       " << contact.integrator << ", step " << 1e3 * options.step << " ms\n"
       << "speed            " << contact.speed << " m/s, depth " << contact.depth
       << " m past first contact (at " << result.contact_time << " s), friction " << contact.friction
       << "\n\n"

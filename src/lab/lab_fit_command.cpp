@@ -116,7 +116,6 @@ struct Sample {
     options.dispersion = model.dispersion == "one-pass" ? core::DispersionPasses::kOnePass
                                                         : core::DispersionPasses::kTwoPass;
     core::ParseIntegrator(contact.integrator, &options.integrator);
-    options.implicit_preconditioner = PreconditionerNamed(contact.preconditioner);
     options.spring_precision = contact.precision == "single" ? core::SpringPrecision::kSingle
                                                              : core::SpringPrecision::kDouble;
   }

@@ -97,13 +97,6 @@ core::Integrator IntegratorNamed(const std::string& name) {
   throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
 }
 
-core::ImplicitPreconditioner PreconditionerNamed(const std::string& name) {
-  core::ImplicitPreconditioner preconditioner = core::ImplicitPreconditioner::kJacobi;
-  if (core::ParseImplicitPreconditioner(name, &preconditioner)) return preconditioner;
-  throw std::invalid_argument("unknown preconditioner '" + name +
-                              "' (expected jacobi or multigrid)");
-}
-
 core::DispersionPasses DispersionNamed(const std::string& name) {
   if (name == "two-pass") return core::DispersionPasses::kTwoPass;
   if (name == "one-pass") return core::DispersionPasses::kOnePass;

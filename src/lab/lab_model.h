@@ -35,10 +35,6 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
 /// meant for the user, for any other name than explicit and implicit.
 core::Integrator IntegratorNamed(const std::string& name);
 
-/// The preconditioner a --preconditioner argument names. Throws std::invalid_argument, with a
-/// message meant for the user, for any other name than jacobi and multigrid.
-core::ImplicitPreconditioner PreconditionerNamed(const std::string& name);
-
 /// The dispersion a --dispersion argument names (two-pass or one-pass). Throws
 /// std::invalid_argument, with a message meant for the user, for any other name.
 core::DispersionPasses DispersionNamed(const std::string& name);

@@ -20,12 +20,6 @@ void AddSphereOptions(CLI::App* command, ContactArguments* contact) {
       ->capture_default_str()
       ->check(CLI::IsMember({"explicit", "implicit"}));
   command
-      ->add_option("--preconditioner", contact->preconditioner,
-                   "the implicit integrator's conjugate gradient: jacobi | multigrid "
-                   "(docs/physics.md section 7.1)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"jacobi", "multigrid"}));
-  command
       ->add_option("--precision", contact->precision,
                    "the spring loops' arithmetic: single | double (cubic lattices; "
                    "docs/physics.md section 9)")

@@ -99,33 +99,6 @@ void OutflowRuns(const ScheduledSprings& springs, int run_begin, int run_end,
 }
 
 MSM_SIM_SIMD_CLONES
-void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, int num_springs,
-                   const NodeArrays& positions, const double* total_tensions, bool drop_compression,
-                   double* storage) {
-  for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = springs.runs[r];
-    const double* __restrict px = positions.x + run.a0;
-    const double* __restrict py = positions.y + run.a0;
-    const double* __restrict pz = positions.z + run.a0;
-    const double* __restrict total = total_tensions + run.first;
-    double* __restrict ux = storage + run.first;
-    double* __restrict uy = ux + num_springs;
-    double* __restrict uz = uy + num_springs;
-    double* __restrict geometric = uz + num_springs;
-    const int d = run.offset, n = run.count;
-    for (int i = 0; i < n; ++i) {
-      const double rx = px[i + d] - px[i], ry = py[i + d] - py[i], rz = pz[i + d] - pz[i];
-      const double inverse_length = 1.0 / internal::SpringLength(rx, ry, rz);
-      ux[i] = rx * inverse_length;
-      uy[i] = ry * inverse_length;
-      uz[i] = rz * inverse_length;
-      const double t = drop_compression ? std::max(total[i], 0.0) : total[i];
-      geometric[i] = t * inverse_length;
-    }
-  }
-}
-
-MSM_SIM_SIMD_CLONES
 void StiffnessRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                    const ScheduledLinearization& linearization, const NodeArrays& dv,
                    const MutableNodeArrays& out_a, const MutableNodeArrays& out_b, double* change_a,

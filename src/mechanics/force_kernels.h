@@ -74,13 +74,6 @@ struct ScheduledLinearization {
   }
 };
 
-/// Fills `storage` (ScheduledLinearization::Of's layout) at `positions` from the springs' total
-/// tensions (schedule order), leaving out compressed springs' (negative) geometric term when
-/// `drop_compression`.
-void LinearizeRuns(const ScheduledSprings& springs, int run_begin, int run_end, int num_springs,
-                   const NodeArrays& positions, const double* total_tensions, bool drop_compression,
-                   double* storage);
-
 /// Stiffness product, direct part: the change of the springs' own tensions (k u.d(dv) along u
 /// plus the geometric term), each spring's part added at its a end to `out_a` and at its b end
 /// to `out_b` (K_direct dv is their sum), and, when `change_a` is not null, the eMSM

@@ -1,7 +1,7 @@
 // The run kernels of ForceEvaluator's linearisation and stiffness diagonal. Compiled as
 // force_kernels.cpp is (-fno-math-errno, SIMD clones; CMakeLists.txt), and written with the same
-// expressions as its PlainRuns, OutflowRuns and LinearizeRuns, so that the linearisation they
-// fill is the one those kernels would give, to the bit.
+// expressions as its PlainRuns and OutflowRuns, so that the tensions they linearise are the ones
+// those kernels give, to the bit.
 
 #include "mechanics/stiffness_kernels.h"
 

@@ -10,11 +10,11 @@ namespace msm_sim::core {
 
 // The kernels take runs [run_begin, run_end) as the force kernels do (force_kernels.h), and are
 // compiled the same way (SIMD clones, no errno), so that a length, 1 / L and a tension round as
-// they do in PlainRuns, InflowRuns, OutflowRuns and LinearizeRuns.
+// they do in PlainRuns, InflowRuns and OutflowRuns.
 
 /// Plain MSM: each spring's total tension k (L - L0) into total_tensions and its linearisation
-/// (u and T / L, ScheduledLinearization::Of's layout) into `storage`, as PlainRuns followed by
-/// LinearizeRuns would give them, without the forces. `drop_compression` leaves out compressed
+/// (u and T / L, ScheduledLinearization::Of's layout) into `storage`, the tensions as PlainRuns
+/// gives them, without the forces. `drop_compression` leaves out compressed
 /// springs' geometric term (GeometricStiffness::kDropCompression).
 void LinearizePlainRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                         int num_springs, const NodeArrays& positions, bool drop_compression,
@@ -22,8 +22,7 @@ void LinearizePlainRuns(const ScheduledSprings& springs, int run_begin, int run_
 
 /// eMSM, with g = J / W per node (after InflowRuns): the total tensions
 /// k (L - L0) + outflow_a g_a + outflow_b g_b into total_tensions and the linearisation into
-/// `storage`, as OutflowRuns without dampers followed by LinearizeRuns would give them, without
-/// the forces.
+/// `storage`, the tensions as OutflowRuns without dampers gives them, without the forces.
 void LinearizeDispersedRuns(const ScheduledSprings& springs, int run_begin, int run_end,
                             int num_springs, const NodeArrays& positions,
                             const double* dispersion_per_weight, bool drop_compression,

@@ -29,33 +29,4 @@ inline bool ParseIntegrator(const std::string& name, Integrator* integrator) {
   return false;
 }
 
-/// The implicit integrator's conjugate-gradient preconditioner (docs/physics.md §7.1).
-enum class ImplicitPreconditioner {
-  /// 1 / diag(M + c K): no set-up, but the iterations grow as the lattice is refined.
-  kJacobi,
-  /// A geometric multigrid V-cycle: iterations that do not grow with refinement, for a set-up
-  /// (the rest stiffness assembled and coarsened) at a body's first implicit step and again when
-  /// its kinematic nodes change, and the coarse systems again when the substep changes.
-  kMultigrid,
-};
-
-/// "jacobi" or "multigrid".
-inline const char* ImplicitPreconditionerName(ImplicitPreconditioner preconditioner) {
-  return preconditioner == ImplicitPreconditioner::kMultigrid ? "multigrid" : "jacobi";
-}
-
-/// The preconditioner ImplicitPreconditionerName calls `name`; false (and *preconditioner
-/// unchanged) for any other.
-inline bool ParseImplicitPreconditioner(const std::string& name,
-                                        ImplicitPreconditioner* preconditioner) {
-  for (const ImplicitPreconditioner candidate :
-       {ImplicitPreconditioner::kJacobi, ImplicitPreconditioner::kMultigrid}) {
-    if (name == ImplicitPreconditionerName(candidate)) {
-      *preconditioner = candidate;
-      return true;
-    }
-  }
-  return false;
-}
-
 }  // namespace msm_sim::core

@@ -72,8 +72,6 @@ struct WorldOptions {
   double implicit_energy_tolerance = 1e-3;  ///< in [0, 1); 0 turns the early stop off
   /// ... or after this many iterations (>= 1), whichever comes first.
   int implicit_max_iterations = 200;
-  /// Implicit only: the solve's preconditioner (ImplicitPreconditioner).
-  ImplicitPreconditioner implicit_preconditioner = ImplicitPreconditioner::kJacobi;
   /// Keep every microcollision with a collider of the last Step (World::contact_points).
   bool record_contact_points = false;
   /// Penetration recovery (docs/physics.md §7.2): a node whose collision sphere overlaps a

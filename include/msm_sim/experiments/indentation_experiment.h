@@ -36,8 +36,6 @@ struct IndentationExperimentOptions {
   double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
-  /// kImplicit: WorldOptions::implicit_preconditioner.
-  ImplicitPreconditioner implicit_preconditioner = WorldOptions().implicit_preconditioner;
   /// In (0, 1]: WorldOptions::time_step_safety, the explicit substep's fraction of the stable
   /// step (a shorter one checks that a force has converged in the substep).
   double time_step_safety = 0.8;

@@ -27,8 +27,6 @@ struct RealtimeExperimentOptions {
   double friction = 0.5;  ///< Coulomb coefficient of the body, the ground and the sphere, >= 0
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;
-  /// kImplicit: WorldOptions::implicit_preconditioner.
-  ImplicitPreconditioner implicit_preconditioner = WorldOptions().implicit_preconditioner;
   int threads = 1;                                              ///< >= 1: WorldOptions::threads
   SpringPrecision spring_precision = SpringPrecision::kSingle;  ///< WorldOptions::spring_precision
   double time_step_safety = 0.8;  ///< in (0, 1]: WorldOptions::time_step_safety

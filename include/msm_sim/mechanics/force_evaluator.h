@@ -6,7 +6,6 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/SparseCore>
 
 #include "msm_sim/mechanics/cache_line_allocator.h"
 #include "msm_sim/mechanics/dispersion_passes.h"
@@ -206,12 +205,6 @@ class ForceEvaluator {
   void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The diagonal of K (3 x N) at the last Linearize, exact.
   Eigen::Matrix3Xd StiffnessDiagonal() const;
-  /// K at the last Linearize assembled (3N x 3N, row and column 3 i + d for node i's axis d),
-  /// without the orientation barrier: ApplyStiffness's product is StiffnessMatrix() times the
-  /// stacked columns of v. For preconditioners that need K's entries; set-up cost, not per step.
-  /// Needs the per-spring linearisation: throws std::logic_error for an evaluator whose
-  /// Linearize went through the run kernels (build it with SpringKernels::kPerSpring).
-  Eigen::SparseMatrix<double> StiffnessMatrix() const;
   /// K is symmetric without dispersion, and with it for linear springs (the dispersion then has
   /// a potential); with carrier or power-law springs the inflow follows the tangent k' and the
   /// outflow k.
@@ -268,9 +261,6 @@ class ForceEvaluator {
   void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// ApplyStiffness without the orientation barrier.
   void ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
-  /// StiffnessMatrix's dispersion and Baudet correction terms.
-  Eigen::SparseMatrix<double> DispersionStiffnessMatrix() const;
-  Eigen::SparseMatrix<double> CorrectionStiffnessMatrix() const;
   /// StiffnessDiagonal without the orientation barrier.
   Eigen::Matrix3Xd SpringStiffnessDiagonal() const;
   /// ApplyStiffness through the run kernels (linear springs, no Baudet elements).
