@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "dynamics/recovery_speed.h"
@@ -16,6 +17,10 @@ namespace {
 // and the overlap beyond which the pair is being recovered and is frictionless.
 constexpr double kPairRecoverySlop = 0.01;
 constexpr double kPairFrictionlessOverlap = 0.1;
+// The candidates' skin as a fraction of the largest collision radius: pairs within their reach
+// plus the skin are tested each substep, found again once a border node has moved half the skin.
+// Resting and slowly pressed contacts move far less than that in many steps.
+constexpr double kCandidateSkin = 0.5;
 
 }  // namespace
 
@@ -35,8 +40,8 @@ void PairContacts::CollideNodes(int* microcollisions) {
 }
 
 bool PairContacts::MayHaveTouchingPairs() const {
-  // Most scenes hold one body, or bodies apart: the spatial hash of every border node, rebuilt
-  // each substep, is skipped when nothing can touch (docs/design/speed-against-bullet.md).
+  // Most scenes hold one body, or bodies apart: nothing is tested, hashed or kept when nothing
+  // can touch (docs/design/speed-against-bullet.md).
   for (const Body& body : world_.bodies) {
     if (body.options.self_collision) return true;
   }
@@ -61,41 +66,115 @@ bool PairContacts::MayHaveTouchingPairs() const {
 }
 
 std::vector<PairContact> PairContacts::FindTouchingPairs() {
+  // Each substep tests the candidates only, a few per border node near another body: finding
+  // them hashes those nodes, which a substep costs far more than the contacts it resolves
+  // (docs/design/soft-contact-cost.md). Resting contacts keep their candidates for many steps.
   if (!MayHaveTouchingPairs()) return {};
-  struct Entry {
-    int body;
-    NodeIndex node;
-    double radius;
-  };
-  std::vector<Entry> entries;
-  double max_radius = 0.0;
+  if (!CandidatesHold()) FindCandidates();
+  std::vector<PairContact> pairs;
+  for (const Candidate& candidate : candidates_) {
+    Body& body_i = world_.bodies[candidate.body_i];
+    Body& body_j = world_.bodies[candidate.body_j];
+    AddPairIfTouching(
+        &body_i, candidate.i, &body_j, candidate.j,
+        body_i.state.positions.col(candidate.i) - body_j.state.positions.col(candidate.j),
+        candidate.reach, &pairs);
+  }
+  return pairs;
+}
+
+bool PairContacts::CandidatesHold() const {
+  if (found_models_.size() != world_.bodies.size()) return false;
+  // Two nodes that have each moved at most skin / 2 are at most skin closer: a pair that was
+  // not a candidate is still out of reach.
+  const double limit_sq = 0.25 * skin_ * skin_;
   for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
-    for (std::size_t k = 0; k < world_.bodies[b].border.nodes.size(); ++k) {
-      entries.push_back({static_cast<int>(b), world_.bodies[b].border.nodes[k],
-                         world_.bodies[b].border.radii[k]});
-      max_radius = std::max(max_radius, world_.bodies[b].border.radii[k]);
+    const Body& body = world_.bodies[b];
+    const std::vector<NodeIndex>& nodes = body.border.nodes;
+    if (body.model.get() != found_models_[b] ||
+        static_cast<Eigen::Index>(nodes.size()) != found_at_[b].cols()) {
+      return false;
+    }
+    for (std::size_t k = 0; k < nodes.size(); ++k) {
+      const Eigen::Index column = static_cast<Eigen::Index>(k);
+      if ((body.state.positions.col(nodes[k]) - found_at_[b].col(column)).squaredNorm() >
+          limit_sq) {
+        return false;
+      }
     }
   }
-  if (entries.empty()) return {};  // a lone body without self-contact left above
-  SpatialHashGrid grid(2.0 * max_radius);
+  return true;
+}
+
+void PairContacts::FindCandidates() {
+  candidates_.clear();
+  found_at_.assign(world_.bodies.size(), Eigen::Matrix3Xd());
+  found_models_.clear();
+  double max_radius = 0.0;
+  for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
+    const Body& body = world_.bodies[b];
+    found_models_.push_back(body.model.get());
+    found_at_[b].resize(3, static_cast<Eigen::Index>(body.border.nodes.size()));
+    for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
+      found_at_[b].col(static_cast<Eigen::Index>(k)) =
+          body.state.positions.col(body.border.nodes[k]);
+      max_radius = std::max(max_radius, body.border.radii[k]);
+    }
+  }
+  skin_ = kCandidateSkin * max_radius;
+  const std::vector<BorderEntry> entries = NodesNearOtherBodies(2.0 * max_radius + skin_);
+  if (entries.empty()) return;
+  const double search = 2.0 * max_radius + skin_;
+  SpatialHashGrid grid(search);
   for (std::size_t e = 0; e < entries.size(); ++e) {
     grid.Insert(static_cast<int>(e),
                 world_.bodies[entries[e].body].state.positions.col(entries[e].node));
   }
-  std::vector<PairContact> pairs;
+  std::vector<std::pair<int, int>> found;
   for (std::size_t e = 0; e < entries.size(); ++e) {
-    const Entry& first = entries[e];
-    Body& body_i = world_.bodies[first.body];
+    const BorderEntry& first = entries[e];
+    const Body& body_i = world_.bodies[first.body];
     const Eigen::Vector3d xi = body_i.state.positions.col(first.node);
-    grid.ForEachWithin(xi, first.radius + max_radius, [&](int other, const Eigen::Vector3d& xj) {
+    grid.ForEachWithin(xi, search, [&](int other, const Eigen::Vector3d& xj) {
       if (other <= static_cast<int>(e)) return;  // each pair once
-      const Entry& second = entries[other];
+      const BorderEntry& second = entries[other];
       if (first.body == second.body && !MayTouchItself(body_i, first.node, second.node)) return;
-      AddPairIfTouching(&body_i, first.node, &world_.bodies[second.body], second.node, xi - xj,
-                        first.radius + second.radius, &pairs);
+      if ((xi - xj).norm() < first.radius + second.radius + skin_) found.emplace_back(e, other);
     });
   }
-  return pairs;
+  // The order of the bodies and border nodes, whichever cells the hash put them in: the
+  // Gauss-Seidel sweeps take the pairs in this order.
+  std::sort(found.begin(), found.end());
+  for (const auto& [first, second] : found) {
+    candidates_.push_back({entries[first].body, entries[first].node, entries[second].body,
+                           entries[second].node, entries[first].radius + entries[second].radius});
+  }
+}
+
+std::vector<PairContacts::BorderEntry> PairContacts::NodesNearOtherBodies(double margin) const {
+  std::vector<Eigen::AlignedBox3d> boxes(world_.bodies.size());
+  for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
+    const Body& body = world_.bodies[b];
+    for (const NodeIndex node : body.border.nodes) boxes[b].extend(body.state.positions.col(node));
+    if (!boxes[b].isEmpty()) {
+      boxes[b].min().array() -= margin;
+      boxes[b].max().array() += margin;
+    }
+  }
+  std::vector<BorderEntry> entries;
+  for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
+    const Body& body = world_.bodies[b];
+    for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
+      const Eigen::Vector3d x = body.state.positions.col(body.border.nodes[k]);
+      bool near = body.options.self_collision;
+      for (std::size_t other = 0; other < boxes.size() && !near; ++other) {
+        near = other != b && boxes[other].contains(x);
+      }
+      if (near)
+        entries.push_back({static_cast<int>(b), body.border.nodes[k], body.border.radii[k]});
+    }
+  }
+  return entries;
 }
 
 bool PairContacts::MayTouchItself(const Body& body, NodeIndex i, NodeIndex j) {

@@ -32,7 +32,8 @@ class PairContacts {
 
   /// Stops every approach between touching border nodes (of two bodies, or a folded one).
   void CollideNodes(int* microcollisions);
-  /// The touching pairs of border nodes, found with a spatial hash.
+  /// The touching pairs of border nodes, in a fixed order (the order of their bodies and border
+  /// nodes), tested among the candidates (FindCandidates) while those still hold.
   std::vector<PairContact> FindTouchingPairs();
   /// False when no body may touch itself and no two bodies' border nodes come within reach.
   bool MayHaveTouchingPairs() const;
@@ -55,7 +56,37 @@ class PairContacts {
   /// The body's slot of *shifts (one per body), zero-filled on first use.
   Eigen::Matrix3Xd& ShiftOf(const Body* body, std::vector<Eigen::Matrix3Xd>* shifts) const;
 
+  /// Two border nodes that were within their reach plus skin_ of each other: the pairs that can
+  /// touch while no border node has moved skin_ / 2 from found_at_.
+  struct Candidate {
+    int body_i;
+    NodeIndex i;
+    int body_j;
+    NodeIndex j;
+    double reach;  // sum of the collision radii (m)
+  };
+  /// A border node of a body, with its collision radius (m).
+  struct BorderEntry {
+    int body;
+    NodeIndex node;
+    double radius;
+  };
+  /// Whether candidates_ still hold every pair that can touch: the same bodies with the same
+  /// models, and no border node farther than skin_ / 2 from where they were found.
+  bool CandidatesHold() const;
+  /// Finds the candidates with a spatial hash over the border nodes near another body (or of a
+  /// body that may touch itself), in the order of their bodies and border nodes.
+  void FindCandidates();
+  /// The border nodes within `margin` (m) of another body's border nodes' bounding box, and every
+  /// border node of a body that may touch itself, in the order of their bodies and border nodes.
+  std::vector<BorderEntry> NodesNearOtherBodies(double margin) const;
+
   WorldState& world_;
+  std::vector<Candidate> candidates_;
+  std::vector<Eigen::Matrix3Xd>
+      found_at_;  // per body, its border nodes when candidates_ were found
+  std::vector<const Model*> found_models_;  // per body, its model then
+  double skin_ = 0.0;                       // m
 };
 
 }  // namespace msm_sim::core::internal

@@ -1,5 +1,11 @@
 // PairContacts (src/dynamics/pair_contacts.h): touching border nodes of two bodies stop
-// approaching each other, their momentum kept, and bodies apart are not searched at all.
+// approaching each other, their momentum kept, and bodies apart are not searched at all; two of
+// the node's default blocks stacked rest, and overlapping at start they come apart and settle.
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -7,6 +13,11 @@
 
 #include "dynamics/pair_contacts.h"
 #include "internal_world.h"
+#include "msm_sim/dynamics/border_nodes.h"
+#include "msm_sim/dynamics/world.h"
+#include "msm_sim/lattice/body_recipe.h"
+#include "msm_sim/lattice/body_shape.h"
+#include "msm_sim/model/node_selection.h"
 
 namespace msm_sim::core::internal {
 namespace {
@@ -58,6 +69,47 @@ TEST_F(TwoBlocks, TouchingFacesStopApproachingAndKeepTheMomentum) {
   EXPECT_TRUE(world.bodies[0].pending.empty());
 }
 
+// Every pair of border nodes of the two bodies closer than their reach, (i, j) in border order.
+std::vector<std::pair<NodeIndex, NodeIndex>> ExhaustivePairs(const WorldState& world) {
+  const Body& left = world.bodies[0];
+  const Body& right = world.bodies[1];
+  std::vector<std::pair<NodeIndex, NodeIndex>> pairs;
+  for (std::size_t p = 0; p < left.border.nodes.size(); ++p) {
+    for (std::size_t q = 0; q < right.border.nodes.size(); ++q) {
+      const double distance = (left.state.positions.col(left.border.nodes[p]) -
+                               right.state.positions.col(right.border.nodes[q]))
+                                  .norm();
+      if (distance < left.border.radii[p] + right.border.radii[q]) {
+        pairs.emplace_back(left.border.nodes[p], right.border.nodes[q]);
+      }
+    }
+  }
+  return pairs;
+}
+
+// The pairs are tested among candidates found with a margin and kept while the nodes move less
+// than half of it: as the right block closes in and both jitter, they are always exactly the
+// pairs an exhaustive search finds, in the order of the bodies' border nodes.
+TEST_F(TwoBlocks, TheTouchingPairsAreThoseOfAnExhaustiveSearchWhileTheNodesMove) {
+  Place(0.012);
+  std::mt19937 random(62);
+  std::uniform_real_distribution<double> jitter(-5e-4, 5e-4);
+  for (int move = 0; move < 40; ++move) {
+    for (Body& body : world.bodies) {
+      double* coordinates = body.state.positions.data();
+      for (Eigen::Index k = 0; k < body.state.positions.size(); ++k)
+        coordinates[k] += jitter(random);
+    }
+    world.bodies[1].state.positions.row(0).array() -= 4e-4;
+    std::vector<std::pair<NodeIndex, NodeIndex>> found;
+    for (const PairContact& pair : pairs.FindTouchingPairs()) {
+      ASSERT_EQ(pair.body_i, &world.bodies[0]);
+      found.emplace_back(pair.i, pair.j);
+    }
+    EXPECT_EQ(found, ExhaustivePairs(world)) << "after move " << move;
+  }
+}
+
 TEST_F(TwoBlocks, ABodyTouchesItselfOnlyWhereItFolds) {
   Place(0.05);
   world.bodies.pop_back();
@@ -65,6 +117,112 @@ TEST_F(TwoBlocks, ABodyTouchesItselfOnlyWhereItFolds) {
   EXPECT_TRUE(pairs.MayHaveTouchingPairs());
   // At rest every node is near its neighbours: no pair of a body that has not folded.
   EXPECT_TRUE(pairs.FindTouchingPairs().empty());
+}
+
+// The node's default object (config/default.yaml: 8 x 6 x 3 cm, cubic at 5 mm, Ecoflex 00-30),
+// resting on z = 0; built once.
+std::shared_ptr<const Model> DefaultBlock() {
+  static const std::shared_ptr<const Model> block = [] {
+    BodyRecipe recipe(Material::FromYoungsPoisson(1e5, 0.49, 1070.0));
+    BodyShape shape;
+    shape.size = Eigen::Vector3d(0.08, 0.06, 0.03);
+    recipe.solid = std::make_shared<const SolidMesh>(MakeBodySolid(shape));
+    recipe.lattice.spacing = 0.005;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(0.0, 0.0, 0.015);
+    return std::make_shared<const Model>(TransformedModel(BuildModel(recipe), pose));
+  }();
+  return block;
+}
+
+// How deep (m) the deepest pair of the two bodies' collision spheres overlaps; 0 if none does.
+double DeepestPairOverlap(const World& world, int a, int b) {
+  const BorderNodes& first = world.border(a);
+  const BorderNodes& second = world.border(b);
+  double deepest = 0.0;
+  for (std::size_t p = 0; p < first.nodes.size(); ++p) {
+    for (std::size_t q = 0; q < second.nodes.size(); ++q) {
+      const double distance = (world.state(a).positions.col(first.nodes[p]) -
+                               world.state(b).positions.col(second.nodes[q]))
+                                  .norm();
+      deepest = std::max(deepest, first.radii[p] + second.radii[q] - distance);
+    }
+  }
+  return deepest;
+}
+
+// Two default blocks as the node would run them (dampers 2e-4 s, friction 0.6, 1 ms steps): the
+// lower on the ground, its bottom layer clamped as the node's table_clamp does; the upper on top,
+// its lowest collision spheres `sink` (m) into the lower's highest.
+struct StackedDefaultBlocks : ::testing::Test {
+  void Stack(double sink) {
+    BodyOptions options;
+    options.damping_beta = 2e-4;
+    options.friction = 0.6;
+    lower = world.AddBody("lower", DefaultBlock(), options);
+    world.AddKinematicGroup(
+        lower, KinematicGroup{"table_clamp",
+                              NodesInHalfSpace(world.model(lower), Eigen::Vector3d(0, 0, 0.005),
+                                               Eigen::Vector3d::UnitZ()),
+                              {}});
+    upper = world.AddBody("upper", DefaultBlock(), options);
+    Collider ground;
+    ground.friction = 0.6;
+    world.AddCollider(ground);
+    const BorderNodes& border = world.border(lower);
+    double top = -1.0;
+    for (std::size_t k = 0; k < border.nodes.size(); ++k) {
+      top = std::max(top, world.state(lower).positions(2, border.nodes[k]) + border.radii[k]);
+    }
+    State state = world.state(upper);
+    state.positions.row(2).array() +=
+        top - sink - LowestSphereBottom(state.positions, world.border(upper));
+    world.SetState(upper, state);
+  }
+  // Steps `seconds` (s) in 1 ms steps, each accepted at the stable substep.
+  void Run(double seconds) {
+    for (int step = 0; step < static_cast<int>(std::lround(seconds / 1e-3)); ++step) {
+      const StepReport report = world.Step(1e-3);
+      ASSERT_TRUE(report.accepted) << report.reason;
+      ASSERT_EQ(report.substep_refinement, 1) << report.refined_because;
+    }
+  }
+  double Mass(int body) const { return world.model(body).masses().sum(); }
+
+  World world;
+  int lower = -1, upper = -1;
+};
+
+TEST_F(StackedDefaultBlocks, TheUpperBlockRestsAndThePairContactsCarryItsWeight) {
+  Stack(0.0);
+  Run(0.3);
+  const double height = world.state(upper).positions.row(2).mean();
+  double clamp_force = 0.0;  // on the clamp, mean over the next 0.1 s
+  for (int step = 0; step < 100; ++step) {
+    ASSERT_TRUE(world.Step(1e-3).accepted);
+    clamp_force += world.wrenches(lower).back().force.z() / 100.0;
+  }
+  // Everything the clamp holds: the lower block and, through the pair contacts, the upper one.
+  const double weights = 9.81 * (Mass(lower) + Mass(upper));
+  EXPECT_NEAR(-clamp_force, weights, 0.01 * weights);
+  EXPECT_NEAR(world.state(upper).positions.row(2).mean(), height, 2e-5);
+  EXPECT_LT(world.state(upper).velocities.colwise().norm().maxCoeff(), 0.01);
+  EXPECT_LT(DeepestPairOverlap(world, lower, upper), 0.05 * 2.0 * world.border(upper).radii[0]);
+}
+
+// Sunk a whole spacing into the lower block at start, the upper one is moved out at the
+// penetration recovery's speed (docs/physics.md §7.2) and rests within 0.5 s.
+TEST_F(StackedDefaultBlocks, OverlappingByASpacingAtStartComeApartAndSettleWithinHalfASecond) {
+  Stack(0.005);
+  Run(0.5);
+  for (const int body : {lower, upper}) {
+    EXPECT_TRUE(world.state(body).positions.allFinite());
+    // J: a few times the ringing the resting stack keeps (about 3e-7 J for both blocks).
+    EXPECT_LT(world.ComputeEnergies(body).kinetic, 2e-6);
+  }
+  // Left at the slop (1 % of the reach) or less.
+  EXPECT_LT(DeepestPairOverlap(world, lower, upper), 0.03 * 2.0 * world.border(upper).radii[0]);
+  EXPECT_LT(world.state(upper).velocities.colwise().norm().maxCoeff(), 0.01);
 }
 
 }  // namespace
