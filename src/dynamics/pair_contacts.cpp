@@ -251,7 +251,9 @@ void PairContacts::RecoverFromPairs(const std::vector<PairContact>& pairs) {
   // Summed per node first, then capped at the recovery's speed: a node pushed into another
   // body's lattice overlaps several of its nodes, and their shifts add up (applied pair by pair
   // they carried nodes out at several times the speed, and steps were rejected).
-  std::vector<Eigen::Matrix3Xd> shifts(world_.bodies.size());
+  // Only the pairs' nodes are visited: the sums wait in shifts_, zero elsewhere, and each node's
+  // is applied and cleared at its first pair in the second pass.
+  shifts_.resize(world_.bodies.size());
   bool any = false;
   for (const PairContact& pair : pairs) {
     const double target =
@@ -262,28 +264,29 @@ void PairContacts::RecoverFromPairs(const std::vector<PairContact>& pairs) {
     if (!(target > separating)) continue;
     const double per_inverse_mass =
         (target - separating) * world_.substep / (pair.inverse_mass_i + pair.inverse_mass_j);
-    ShiftOf(pair.body_i, &shifts).col(pair.i) +=
-        per_inverse_mass * pair.inverse_mass_i * pair.normal;
-    ShiftOf(pair.body_j, &shifts).col(pair.j) -=
-        per_inverse_mass * pair.inverse_mass_j * pair.normal;
+    ShiftOf(pair.body_i).col(pair.i) += per_inverse_mass * pair.inverse_mass_i * pair.normal;
+    ShiftOf(pair.body_j).col(pair.j) -= per_inverse_mass * pair.inverse_mass_j * pair.normal;
     any = true;
   }
   if (!any) return;
   const double cap = world_.options.penetration_max_speed * world_.substep;
-  for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
-    Eigen::Matrix3Xd& shift = shifts[b];
-    for (Eigen::Index node = 0; node < shift.cols(); ++node) {
-      const double length = shift.col(node).norm();
-      if (length > cap) shift.col(node) *= cap / length;
-    }
-    if (shift.cols() > 0) world_.bodies[b].state.positions += shift;
+  const auto apply = [cap](Body* body, NodeIndex node, Eigen::Matrix3Xd& shifts) {
+    auto shift = shifts.col(node);
+    if (shift.isZero(0.0)) return;  // none, or applied at an earlier pair
+    const double length = shift.norm();
+    if (length > cap) shift *= cap / length;
+    body->state.positions.col(node) += shift;
+    shift.setZero();
+  };
+  for (const PairContact& pair : pairs) {
+    apply(pair.body_i, pair.i, ShiftOf(pair.body_i));
+    apply(pair.body_j, pair.j, ShiftOf(pair.body_j));
   }
 }
 
-Eigen::Matrix3Xd& PairContacts::ShiftOf(const Body* body,
-                                        std::vector<Eigen::Matrix3Xd>* shifts) const {
-  Eigen::Matrix3Xd& shift = (*shifts)[static_cast<std::size_t>(body - world_.bodies.data())];
-  if (shift.cols() == 0) shift.setZero(3, body->state.positions.cols());
+Eigen::Matrix3Xd& PairContacts::ShiftOf(const Body* body) {
+  Eigen::Matrix3Xd& shift = shifts_[static_cast<std::size_t>(body - world_.bodies.data())];
+  if (shift.cols() != body->state.positions.cols()) shift.setZero(3, body->state.positions.cols());
   return shift;
 }
 

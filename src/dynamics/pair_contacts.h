@@ -53,8 +53,8 @@ class PairContacts {
   /// recovery speed their relative velocity lacks, times h, shared by inverse masses; each
   /// node's summed shift capped at penetration_max_speed times h.
   void RecoverFromPairs(const std::vector<PairContact>& pairs);
-  /// The body's slot of *shifts (one per body), zero-filled on first use.
-  Eigen::Matrix3Xd& ShiftOf(const Body* body, std::vector<Eigen::Matrix3Xd>* shifts) const;
+  /// The body's slot of shifts_, zero-filled when its node count changes.
+  Eigen::Matrix3Xd& ShiftOf(const Body* body);
 
   /// Two border nodes that were within their reach plus skin_ of each other: the pairs that can
   /// touch while no border node has moved skin_ / 2 from found_at_.
@@ -87,6 +87,7 @@ class PairContacts {
       found_at_;  // per body, its border nodes when candidates_ were found
   std::vector<const Model*> found_models_;  // per body, its model then
   double skin_ = 0.0;                       // m
+  std::vector<Eigen::Matrix3Xd> shifts_;    // per body, the recovery's sums: zero between stages
 };
 
 }  // namespace msm_sim::core::internal
