@@ -22,6 +22,41 @@ constexpr double kPairFrictionlessOverlap = 0.1;
 // Resting and slowly pressed contacts move far less than that in many steps.
 constexpr double kCandidateSkin = 0.5;
 
+// The mean unit vector from a node to its spring neighbours at their current positions: into
+// its body at a border node, whose star is one-sided.
+Eigen::Vector3d Star(const Body& body, NodeIndex node) {
+  const Model& model = *body.model;
+  const Eigen::Matrix3Xd& x = body.state.positions;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::int32_t k = model.incidence_offsets()[node]; k < model.incidence_offsets()[node + 1];
+       ++k) {
+    const SpringIndex s = model.incident_springs()[k];
+    const NodeIndex other =
+        model.spring_node_a()[s] == node ? model.spring_node_b()[s] : model.spring_node_a()[s];
+    const Eigen::Vector3d d = x.col(other) - x.col(node);
+    const double length = d.norm();
+    if (length > 0.0) sum += d / length;
+  }
+  return sum;
+}
+
+// A deep pair whose nodes have passed each other (each centre behind the other's surface, on
+// the inner side of its star) is turned to face the way out of both bodies, as a collider's
+// surface normal does for a node inside it: its centre-to-centre normal would push the two
+// layers further into each other. Its overlap is then counted along that normal.
+void FaceTheWayOut(PairContact* pair) {
+  const Eigen::Vector3d xi = pair->body_i->state.positions.col(pair->i);
+  const Eigen::Vector3d xj = pair->body_j->state.positions.col(pair->j);
+  const Eigen::Vector3d star_i = Star(*pair->body_i, pair->i);
+  const Eigen::Vector3d star_j = Star(*pair->body_j, pair->j);
+  if (!((xj - xi).dot(star_i) > 0.0 && (xi - xj).dot(star_j) > 0.0)) return;
+  const Eigen::Vector3d out = star_i - star_j;  // i leaves j's body, j leaves i's
+  const double norm = out.norm();
+  if (!(norm > 0.0)) return;
+  pair->normal = out / norm;
+  pair->overlap = pair->reach - (xi - xj).dot(pair->normal);
+}
+
 }  // namespace
 
 void PairContacts::CollideNodes(int* microcollisions) {
@@ -75,10 +110,15 @@ std::vector<PairContact> PairContacts::FindTouchingPairs() {
   for (const Candidate& candidate : candidates_) {
     Body& body_i = world_.bodies[candidate.body_i];
     Body& body_j = world_.bodies[candidate.body_j];
+    const std::size_t before = pairs.size();
     AddPairIfTouching(
         &body_i, candidate.i, &body_j, candidate.j,
         body_i.state.positions.col(candidate.i) - body_j.state.positions.col(candidate.j),
         candidate.reach, &pairs);
+    if (pairs.size() > before &&
+        pairs.back().overlap > kPairFrictionlessOverlap * candidate.reach) {
+      FaceTheWayOut(&pairs.back());
+    }
   }
   return pairs;
 }

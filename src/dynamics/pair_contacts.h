@@ -33,7 +33,9 @@ class PairContacts {
   /// Stops every approach between touching border nodes (of two bodies, or a folded one).
   void CollideNodes(int* microcollisions);
   /// The touching pairs of border nodes, in a fixed order (the order of their bodies and border
-  /// nodes), tested among the candidates (FindCandidates) while those still hold.
+  /// nodes), tested among the candidates (FindCandidates) while those still hold. A pair deeper
+  /// than it is frictionless whose nodes have passed each other faces the way out of both bodies
+  /// (docs/physics.md §7.2).
   std::vector<PairContact> FindTouchingPairs();
   /// False when no body may touch itself and no two bodies' border nodes come within reach.
   bool MayHaveTouchingPairs() const;
