@@ -15,6 +15,7 @@ from the simulation's diagnostics) and the mean real-time factor. SI units throu
 import json
 import math
 import os
+import signal
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray
@@ -134,10 +135,18 @@ class Grasp:
                     lift_start, z0 = t, self.object_height()
                 lift = self.lift * quintic((t - lift_start) / self.lift_time)
                 if t > lift_start + self.lift_time + self.final_hold:
+                    self.hold()
                     return self.finish(z0)
             self.publish(lift)
             self.record(t, lift)
             rate.sleep()
+
+    def hold(self):
+        """Publishes the final pose (lifted, fingers where they stopped) from a timer until
+        shutdown, while the summary is written and the launch ends: the links' tf stays fresh,
+        so the simulation keeps their contacts and does not warn of stale links."""
+        period = rospy.Duration(1.0 / rospy.get_param("~rate", 100.0))
+        self.holder = rospy.Timer(period, lambda event: self.publish(self.lift))
 
     def finish(self, z0):
         held = [r for r in self.rows if r[0] >= self.rows[-1][0] - 1.0]
@@ -196,10 +205,29 @@ class Grasp:
         rospy.loginfo("grasp: wrote %s", os.path.join(self.output_dir, "grasp.png"))
 
 
+def end_launch():
+    """Ends the roslaunch that started this node as Ctrl-C would: every node stops and roslaunch
+    exits 0, without the alarm a `required` node's exit raises. False (and nothing done) when the
+    parent process is not roslaunch (rosrun, rostest)."""
+    parent = os.getppid()
+    try:
+        with open("/proc/%d/cmdline" % parent, "rb") as f:
+            command = f.read().split(b"\0")
+    except OSError:
+        return False
+    if not any(os.path.basename(part) == b"roslaunch" for part in command[:2]):
+        return False
+    os.kill(parent, signal.SIGINT)
+    return True
+
+
 def main():
     rospy.init_node("grasp_gripper")
-    Grasp().run()
+    grasp = Grasp()
+    grasp.run()
     rospy.sleep(1.0)  # let the latched summary reach its subscribers
+    if rospy.get_param("~end_launch", False) and end_launch():
+        rospy.spin()  # holding the pose (Grasp.hold) while roslaunch stops the nodes
 
 
 if __name__ == "__main__":
