@@ -51,10 +51,10 @@ BENCHMARK(BM_CompressionRandom16k)->Unit(benchmark::kSecond)->Iterations(3);
 
 // Times AccumulateForces on the model compressed uniformly by 1 %, with spring dampers
 // (beta = 1e-4 s, as in a dynamics step) at random velocities when `damped`.
-void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark::State& state,
+void TimeForceEvaluations(const Model& model, benchmark::State& state,
                           SpringKernels kernels = SpringKernels::kAuto, bool damped = false,
                           SpringPrecision precision = SpringPrecision::kDouble) {
-  ForceEvaluator evaluator(model, passes, kernels, BenchThreads());
+  ForceEvaluator evaluator(model, kernels, BenchThreads());
   evaluator.set_precision(precision);
   const Eigen::Matrix3Xd positions = model.rest_positions() * 0.99;
   const Eigen::Matrix3Xd velocities = 1e-3 * Eigen::Matrix3Xd::Random(3, model.num_nodes());
@@ -70,8 +70,8 @@ void TimeForceEvaluations(const Model& model, DispersionPasses passes, benchmark
 }
 
 // One force evaluation on a node-centred cubic block 2 x 1 x 1 m at a = 1/18 m (11,664 nodes,
-// 96,579 springs): plain MSM (nu = 1/4) against the eMSM (nu = 0.45) with two-pass and one-pass
-// dispersion, and the non-linear spring law. Issue target: eMSM <= 1.6 x plain.
+// 96,579 springs): plain MSM (nu = 1/4) against the eMSM (nu = 0.45), and the non-linear
+// spring law. Issue target: eMSM <= 1.6 x plain.
 Model Block12k(double poisson, SpringLaw law = SpringLaw::kLinear) {
   CubicLatticeOptions lattice_options;
   lattice_options.size = Eigen::Vector3d(2.0, 1.0, 1.0);
@@ -80,21 +80,20 @@ Model Block12k(double poisson, SpringLaw law = SpringLaw::kLinear) {
   return BuildCubicLattice(Material::FromYoungsPoisson(1e5, poisson, 1100.0), lattice_options);
 }
 
-void BM_ForceEvaluation12k(benchmark::State& state, double poisson, DispersionPasses passes,
-                           SpringLaw law) {
-  TimeForceEvaluations(Block12k(poisson, law), passes, state);
+void BM_ForceEvaluation12k(benchmark::State& state, double poisson, SpringLaw law) {
+  TimeForceEvaluations(Block12k(poisson, law), state);
 }
 
 // The run kernels against the per-spring loops on the same block, with dampers as in a step
 // (run with --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true to compare).
 void BM_SpringKernels12k(benchmark::State& state, double poisson, SpringKernels kernels) {
-  TimeForceEvaluations(Block12k(poisson), DispersionPasses::kTwoPass, state, kernels, true);
+  TimeForceEvaluations(Block12k(poisson), state, kernels, true);
 }
 // The single-precision loops (the dynamics' default, WorldOptions::spring_precision) on the same
 // block with dampers: plain MSM against the two-pass eMSM (issue target: eMSM <= 1.6 x plain).
 void BM_SingleSpringLoops12k(benchmark::State& state, double poisson) {
-  TimeForceEvaluations(Block12k(poisson), DispersionPasses::kTwoPass, state, SpringKernels::kAuto,
-                       true, SpringPrecision::kSingle);
+  TimeForceEvaluations(Block12k(poisson), state, SpringKernels::kAuto, true,
+                       SpringPrecision::kSingle);
 }
 BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, plain, 0.25)->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, emsm, 0.45)->Unit(benchmark::kMicrosecond);
@@ -106,8 +105,7 @@ BENCHMARK_CAPTURE(BM_SingleSpringLoops12k, emsm, 0.45)->Unit(benchmark::kMicrose
 void BM_StiffnessProduct12k(benchmark::State& state, double poisson, SpringKernels kernels,
                             SpringPrecision precision = SpringPrecision::kDouble) {
   const Model model = Block12k(poisson);
-  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels,
-                           precision == SpringPrecision::kSingle ? 1 : 64);
+  ForceEvaluator evaluator(model, kernels, precision == SpringPrecision::kSingle ? 1 : 64);
   evaluator.set_precision(precision);
   evaluator.Linearize(model.rest_positions() * 0.99, GeometricStiffness::kDropCompression);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Random(3, model.num_nodes());
@@ -133,17 +131,11 @@ BENCHMARK_CAPTURE(BM_SpringKernels12k, emsm_per_spring, 0.45, SpringKernels::kPe
     ->Unit(benchmark::kMicrosecond);
 BENCHMARK_CAPTURE(BM_SpringKernels12k, emsm_runs, 0.45, SpringKernels::kAuto)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain, 0.25, DispersionPasses::kTwoPass,
-                  SpringLaw::kLinear)
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain, 0.25, SpringLaw::kLinear)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_ForceEvaluation12k, emsm_two_pass, 0.45, DispersionPasses::kTwoPass,
-                  SpringLaw::kLinear)
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, emsm_two_pass, 0.45, SpringLaw::kLinear)
     ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_ForceEvaluation12k, emsm_one_pass, 0.45, DispersionPasses::kOnePass,
-                  SpringLaw::kLinear)
-    ->Unit(benchmark::kMicrosecond);
-BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain_nonlinear, 0.25, DispersionPasses::kTwoPass,
-                  SpringLaw::kNonlinear)
+BENCHMARK_CAPTURE(BM_ForceEvaluation12k, plain_nonlinear, 0.25, SpringLaw::kNonlinear)
     ->Unit(benchmark::kMicrosecond);
 
 // The same block as an element-corner cubic lattice (37 x 19 x 19 corner nodes, as Baudet's
@@ -158,8 +150,7 @@ void BM_ForceEvaluationCubic12k(benchmark::State& state, CubicConstruction const
   lattice_options.construction = construction;
   const Model model =
       BuildCubicLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options);
-  TimeForceEvaluations(model, DispersionPasses::kTwoPass, state, SpringKernels::kAuto, false,
-                       precision);
+  TimeForceEvaluations(model, state, SpringKernels::kAuto, false, precision);
 }
 BENCHMARK_CAPTURE(BM_ForceEvaluationCubic12k, corner_double, CubicConstruction::kElementCorner,
                   SpringPrecision::kDouble)
@@ -179,7 +170,7 @@ void BM_ForceEvaluationBaudet12k(benchmark::State& state) {
   lattice_options.lattice.spacing = 1.0 / 18.0;
   const Model model =
       BuildBaudetLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options);
-  TimeForceEvaluations(model, DispersionPasses::kTwoPass, state);
+  TimeForceEvaluations(model, state);
 }
 BENCHMARK(BM_ForceEvaluationBaudet12k)->Unit(benchmark::kMicrosecond);
 
@@ -191,7 +182,7 @@ void BM_ForceEvaluationRandom12k(benchmark::State& state) {
   lattice_options.max_distance = 1.9;
   const Model model =
       BuildRandomLattice(Material::FromYoungsPoisson(1e5, 0.45, 1100.0), lattice_options);
-  TimeForceEvaluations(model, DispersionPasses::kTwoPass, state);
+  TimeForceEvaluations(model, state);
 }
 BENCHMARK(BM_ForceEvaluationRandom12k)->Unit(benchmark::kMicrosecond);
 

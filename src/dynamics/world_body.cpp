@@ -22,7 +22,7 @@ Body::Body(const std::string& body_name, std::shared_ptr<const Model> body_model
       model(std::move(body_model)),
       options(body_options),
       state(State::AtRest(*model)),
-      evaluator(*model, body_options.dispersion, SpringKernels::kAuto, world_options.threads),
+      evaluator(*model, SpringKernels::kAuto, world_options.threads),
       border(FindBorderNodes(*model)),
       constrained(model->num_nodes(), 0),
       inverse_masses(model->masses().cwiseInverse()),

@@ -76,7 +76,6 @@ Scene BuildScene(World* world, std::shared_ptr<const Model> model,
                  const GripExperimentOptions& options) {
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;
-  body_options.dispersion = options.dispersion;
   Scene scene;
   scene.body = world->AddBody("block", model, body_options);
   const Eigen::Matrix3Xd& x = model->rest_positions();

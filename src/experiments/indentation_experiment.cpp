@@ -178,7 +178,6 @@ IndentationExperimentResult RunIndentationExperiment(std::shared_ptr<const Model
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;
-  body_options.dispersion = options.dispersion;
   const int body = world.AddBody("block", model, body_options);
   world.AddKinematicGroup(body, KinematicGroup{"base", BaseNodes(*model), {}});
   const bool held = options.start_depth > 0.0;

@@ -40,7 +40,6 @@ RealtimeExperimentResult RunRealtimeExperiment(std::shared_ptr<const Model> mode
   World world(world_options);
   BodyOptions body_options;
   body_options.damping_beta = options.damping_beta;
-  body_options.dispersion = options.dispersion;
   body_options.friction = options.friction;
   const int body = world.AddBody("block", model, body_options);
   world.AddCollider(GroundTouching(model->rest_positions(), world.border(body), options.friction));

@@ -143,11 +143,6 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
                       "--spring power: the law's alpha (docs/physics.md 4.1; fit --tensile)");
   command->add_option("--beta", model->beta,
                       "--spring power: the law's beta >= 0 (docs/physics.md 4.1; fit --tensile)");
-  command
-      ->add_option("--dispersion", model->dispersion,
-                   "eMSM dispersion: two-pass (exact) | one-pass (lagged accumulators)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"two-pass", "one-pass"}));
 }
 
 }  // namespace

@@ -30,7 +30,6 @@ struct ModelArguments {
   std::string spring = "linear";             ///< linear | nonlinear | power
   /// --spring power: the law's alpha and beta (docs/physics.md §4.1), both required then.
   std::optional<double> alpha, beta;
-  std::string dispersion = "two-pass";  ///< two-pass | one-pass
   std::string mesh;                 ///< closed mesh file filling the body instead of the --size box
   double scale = 1.0;               ///< mesh coordinates times this are metres
   bool antialias = true;            ///< mesh + cubic: docs/physics.md §5 anti-aliasing

@@ -37,7 +37,6 @@ struct CompressionRun {
 };
 
 CompressionRun Compress(const ModelArguments& model_arguments, double strain) {
-  CheckStaticDispersion(model_arguments.dispersion);
   const LabBody body = LoadLabBody(model_arguments, true);
   const core::Model model = BuildLabModel(model_arguments, body);
   core::CompressionExperimentOptions options;
@@ -65,7 +64,6 @@ int RunCompression(const LabArguments& arguments, std::ostream& out, std::ostrea
     Json json{{"command", "compression"},
               {"model", arguments.model.model},
               {"spring", arguments.model.spring},
-              {"dispersion", arguments.model.dispersion},
               {"dispersion_ratio", core::DispersionRatio(arguments.model.poisson)},
               {"youngs_target", youngs},
               {"poisson_target", arguments.model.poisson},

@@ -73,7 +73,6 @@ void PrintDeflection(const LabArguments& arguments, const core::ModelStatistics&
 }  // namespace
 
 int RunDeflection(const LabArguments& arguments, std::ostream& out, std::ostream& err) {
-  CheckStaticDispersion(arguments.model.dispersion);
   const auto start = std::chrono::steady_clock::now();
   const bool faces = DeflectionAtFaces(arguments);
   core::BodyRecipe recipe = LabRecipe(arguments.model, LoadLabBody(arguments.model, true));

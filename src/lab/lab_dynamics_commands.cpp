@@ -40,7 +40,6 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   options.sphere_radius = contact.sphere_radius;
   options.seconds = contact.seconds;
   options.damping_beta = contact.damping;
-  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
   options.threads = contact.threads;
   options.spring_precision = PrecisionNamed(contact.precision);
@@ -125,7 +124,6 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   options.speed = contact.speed;
   options.damping_beta = contact.damping;
   options.friction = contact.friction;
-  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(contact.integrator);
   options.spring_precision = PrecisionNamed(contact.precision);
   const auto model = LabBlock(arguments.model);
@@ -176,7 +174,6 @@ int RunGrip(const LabArguments& arguments, std::ostream& out) {
   options.squeeze = grip.squeeze;
   options.damping_beta = grip.damping;
   options.lift_time = grip.lift_time;
-  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.integrator = IntegratorNamed(grip.integrator);
   const auto model = LabBlock(arguments.model);
   const core::GripExperimentResult r = core::RunGripExperiment(model, options);

@@ -113,8 +113,6 @@ struct Sample {
     options.depth = curve.back().depth;
     options.speed = contact.speed;
     options.damping_beta = contact.damping;
-    options.dispersion = model.dispersion == "one-pass" ? core::DispersionPasses::kOnePass
-                                                        : core::DispersionPasses::kTwoPass;
     core::ParseIntegrator(contact.integrator, &options.integrator);
     options.spring_precision = contact.precision == "single" ? core::SpringPrecision::kSingle
                                                              : core::SpringPrecision::kDouble;

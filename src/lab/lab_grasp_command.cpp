@@ -51,7 +51,6 @@ LabBody GraspBody(const LabArguments& arguments) {
 core::GraspExperimentOptions GraspOptions(const LabArguments& arguments) {
   const GraspArguments& grasp = arguments.grasp;
   core::GraspExperimentOptions options;
-  options.dispersion = DispersionNamed(arguments.model.dispersion);
   options.friction = grasp.friction;
   options.force_ratio = grasp.force_ratio;
   options.lift = grasp.lift;

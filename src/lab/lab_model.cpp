@@ -97,24 +97,8 @@ core::Integrator IntegratorNamed(const std::string& name) {
   throw std::invalid_argument("unknown integrator '" + name + "' (expected explicit or implicit)");
 }
 
-core::DispersionPasses DispersionNamed(const std::string& name) {
-  if (name == "two-pass") return core::DispersionPasses::kTwoPass;
-  if (name == "one-pass") return core::DispersionPasses::kOnePass;
-  throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
-}
-
 core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body) {
   return core::BuildModel(LabRecipe(arguments, body));
-}
-
-void CheckStaticDispersion(const std::string& name) {
-  if (name == "two-pass") return;
-  if (name == "one-pass") {
-    throw std::invalid_argument(
-        "--dispersion one-pass lags the dispersion by one time step and only applies to dynamics; "
-        "static experiments use the exact two-pass forces");
-  }
-  throw std::invalid_argument("unknown dispersion '" + name + "' (expected two-pass or one-pass)");
 }
 
 }  // namespace msm_sim::lab

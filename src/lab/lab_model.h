@@ -10,7 +10,6 @@
 #include "msm_sim/dynamics/integrator.h"
 #include "msm_sim/geometry/solid_mesh.h"
 #include "msm_sim/lattice/body_recipe.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::lab {
@@ -35,18 +34,9 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
 /// meant for the user, for any other name than explicit and implicit.
 core::Integrator IntegratorNamed(const std::string& name);
 
-/// The dispersion a --dispersion argument names (two-pass or one-pass). Throws
-/// std::invalid_argument, with a message meant for the user, for any other name.
-core::DispersionPasses DispersionNamed(const std::string& name);
-
 /// Builds the model the arguments describe in the body: core::BuildModel(LabRecipe(...)).
 /// Throws std::invalid_argument for an invalid material, geometry or option combination, with a
 /// message meant for the user.
 core::Model BuildLabModel(const ModelArguments& arguments, const LabBody& body);
-
-/// Static experiments solve for an exact equilibrium, where both ways of staging the dispersion
-/// give the same forces; one-pass is a dynamics option (it lags one time step). Throws
-/// std::invalid_argument for "one-pass" (saying so rather than ignoring it) and unknown names.
-void CheckStaticDispersion(const std::string& name);
 
 }  // namespace msm_sim::lab

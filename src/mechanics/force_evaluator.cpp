@@ -42,10 +42,8 @@ std::shared_ptr<const ScheduledSpringData> ScheduleRuns(const Model& model,
 
 }  // namespace
 
-ForceEvaluator::ForceEvaluator(const Model& model, DispersionPasses passes, SpringKernels kernels,
-                               int max_threads)
+ForceEvaluator::ForceEvaluator(const Model& model, SpringKernels kernels, int max_threads)
     : model_(&model),
-      passes_(passes),
       plan_(std::make_unique<internal::SharePlan>(model.num_nodes(), model.num_springs(),
                                                   max_threads)),
       single_passes_(std::make_unique<internal::SinglePasses>()) {
@@ -177,11 +175,8 @@ void ForceEvaluator::RoundNodes(const Eigen::Matrix3Xd& positions,
 }
 
 bool ForceEvaluator::UsesSingleLoops() const {
-  // As Accumulate chooses: the run kernels unless one-pass dispersion lags on a previous
-  // evaluation, in single precision where the model has them.
-  const bool lagged = passes_ == DispersionPasses::kOnePass && has_previous_dispersion_ &&
-                      model_->dispersion_fraction() != 0.0;
-  return scheduled_ && single_ && !lagged;
+  // As Accumulate chooses: the run kernels in single precision where the model has them.
+  return scheduled_ && single_;
 }
 
 int ForceEvaluator::NumNodeShares() const {
@@ -203,12 +198,9 @@ void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double bu
 void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                 Eigen::Matrix3Xd* forces) {
   totals_recorded_ = true;
-  const bool dispersion = model_->dispersion_fraction() != 0.0;
-  const bool lagged = passes_ == DispersionPasses::kOnePass && has_previous_dispersion_;
-  const bool runs = scheduled_ && !(dispersion && lagged);
   // SetForces: every path but the single-precision loops adds to *forces.
-  if (overwrite_forces_ && !(runs && single_)) forces->setZero();
-  if (!runs) {
+  if (overwrite_forces_ && !(scheduled_ && single_)) forces->setZero();
+  if (!scheduled_) {
     AccumulatePerSpring(positions, damping, forces);
     return;
   }
@@ -217,7 +209,6 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
   } else {
     AccumulateRuns(positions, damping, forces);
   }
-  has_previous_dispersion_ = dispersion;
   // The single-precision loops add the barrier on each share, before its `after` stage.
   if (barrier_ && !single_) barrier_->AccumulateForces(positions, forces);
 }
@@ -273,18 +264,11 @@ void ForceEvaluator::InflowRunsToAccumulator(const double* x_arrays) {
 
 void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                       Eigen::Matrix3Xd* forces) {
-  const internal::SingleInputs in{model_,
-                                  single_.get(),
-                                  &positions,
-                                  damping.velocities,
-                                  damping.beta,
-                                  stages_,
-                                  barrier_.get(),
-                                  inverse_star_weight_.data(),
-                                  overwrite_forces_,
-                                  passes_ == DispersionPasses::kOnePass};
-  const internal::SingleOutputs out{forces, &accumulator_, &dispersion_per_weight_,
-                                    &barrier_forces_};
+  const internal::SingleInputs in{
+      model_,           single_.get(), &positions,     damping.velocities,
+      damping.beta,     stages_,       barrier_.get(), inverse_star_weight_.data(),
+      overwrite_forces_};
+  const internal::SingleOutputs out{forces, &barrier_forces_};
   single_passes_->Evaluate(*plan_, in, out);
   totals_recorded_ = false;
   totals_scheduled_ = false;

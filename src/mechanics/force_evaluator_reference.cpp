@@ -1,6 +1,6 @@
 // ForceEvaluator's per-spring loops: the reference that the run kernels are checked against, and
 // the evaluation of every model the run kernels do not take (random lattices, carrier springs,
-// Baudet elements, the one-pass lag; docs/physics.md §3).
+// Baudet elements; docs/physics.md §3).
 
 #include <cmath>
 
@@ -125,35 +125,6 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Dampin
                          });
 }
 
-template <bool Damped, class Law>
-void ForceEvaluator::LaggedPass(const Law& law, const Eigen::Matrix3Xd& positions,
-                                const Damping& damping, Eigen::Matrix3Xd* forces) {
-  const SpringArrays springs = Arrays(*model_);
-  const double* __restrict x = positions.data();
-  const double* __restrict g = dispersion_per_weight_.data();  // of the previous evaluation
-  const double* __restrict inflow_a = inflow_a_.data();
-  const double* __restrict inflow_b = inflow_b_.data();
-  const double* __restrict outflow_a = outflow_a_.data();
-  const double* __restrict outflow_b = outflow_b_.data();
-  double* __restrict accumulator = accumulator_.data();
-  double* __restrict total = total_tensions_.data();
-  double* __restrict f = forces->data();
-  accumulator_.setZero();
-  for (int s = 0; s < model_->num_springs(); ++s) {
-    const int a = springs.a[s];
-    const int b = springs.b[s];
-    double r[3];
-    const double length = Separation(x, a, b, r);
-    const double t = law.Tension(springs.k[s], springs.rest[s], length);
-    accumulator[a] += inflow_a[s] * t;
-    accumulator[b] += inflow_b[s] * t;
-    double t_total = t + outflow_a[s] * g[a] + outflow_b[s] * g[b];
-    if constexpr (Damped) t_total += DampingTension(damping, springs, s, r, length);
-    total[s] = t_total;
-    ApplyPair(f, a, b, t_total / length, r);
-  }
-}
-
 void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
@@ -190,18 +161,11 @@ void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
     if (barrier_) barrier_->AccumulateForces(positions, forces);
     return;
   }
-  if (passes_ == DispersionPasses::kOnePass && has_previous_dispersion_) {
-    internal::VisitSpringLaw(
-        *model_, [&](const auto& law) { LaggedPass<Damped>(law, positions, damping, forces); });
-    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);  // for next time
-  } else {
-    // Two passes: the direct tensions fill the accumulators, then every spring applies its
-    // direct plus dispersed tension at once.
-    internal::VisitSpringLaw(*model_, [&](const auto& law) { InflowPass(law, positions); });
-    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
-    OutflowPass<Damped>(positions, damping, forces);
-  }
-  has_previous_dispersion_ = true;
+  // Two passes: the direct tensions fill the accumulators, then every spring applies its direct
+  // plus dispersed tension at once.
+  internal::VisitSpringLaw(*model_, [&](const auto& law) { InflowPass(law, positions); });
+  dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
+  OutflowPass<Damped>(positions, damping, forces);
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
   if (barrier_) barrier_->AccumulateForces(positions, forces);
 }

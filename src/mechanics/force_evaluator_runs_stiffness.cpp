@@ -13,9 +13,9 @@
 namespace msm_sim::core {
 
 void ForceEvaluator::LinearizeScheduled(const Eigen::Matrix3Xd& positions, bool drop_compression) {
-  // The two-pass total tensions in double, whatever the caller's precision and passes (K and
-  // the solve need the exact tensions), as AccumulateRuns computes them but without dampers
-  // and forces; the one-pass history (dispersion_per_weight_) is left alone.
+  // The two-pass total tensions in double, whatever the caller's precision (K and the solve
+  // need the exact tensions), as AccumulateRuns computes them but without dampers and forces;
+  // the dispersion g of the caller's last evaluation (dispersion_per_weight_) is left alone.
   const Eigen::Index n = model_->num_nodes();
   const int count = model_->num_springs();
   node_arrays_.resize(9 * n);

@@ -86,17 +86,11 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
 
 void ForceEvaluator::LinearizePerSpring(const Eigen::Matrix3Xd& positions,
                                         GeometricStiffness geometric) {
-  // Exact (two-pass) total tensions at `positions`, without disturbing the one-pass history of
-  // the caller's simulation. Without a schedule there are no single-precision springs: this
-  // evaluation is in double.
-  const DispersionPasses saved_passes = passes_;
-  const bool saved_has_previous = has_previous_dispersion_;
+  // The total tensions at `positions`, keeping the dispersion g of the caller's last evaluation.
+  // Without a schedule there are no single-precision springs: this evaluation is in double.
   const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
-  passes_ = DispersionPasses::kTwoPass;
   Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
   AccumulateForces(positions, &scratch);
-  passes_ = saved_passes;
-  has_previous_dispersion_ = saved_has_previous;
   dispersion_per_weight_ = saved_dispersion;
   const int count = model_->num_springs();
   directions_.resize(3, count);

@@ -127,8 +127,6 @@ SingleEvaluation::SingleEvaluation(SinglePasses* passes, const SharePlan& plan,
   passes_.overflows_.resize(4 * overflow_stride_ * count_);
   if (dispersion_) {
     passes_.accumulators_.resize(2 * stride_);
-    out.accumulator->resize(n_);
-    out.dispersion_per_weight->resize(n_);
     passes_.dispersion_.resize(stride_);  // g, read where the blocks' phantoms reach
   }
   j_a_ = passes_.accumulators_.data();
@@ -263,12 +261,9 @@ void SingleEvaluation::FirstPass(int t) {
   SingleInflowRuns(springs_, shares_[t], x_arrays_, j_a_, j_b_, Overflow(t, 3));
 }
 
-// J and g in double as well where a one-pass evaluation after this one lags on them; two passes
-// never read them.
 void SingleEvaluation::Disperse(int begin, int end) {
-  double* const lagged_j = in_.double_dispersion ? out_.accumulator->data() : nullptr;
   SingleDispersion(j_a_, in_.model->dispersion_fraction(), in_.inverse_star_weight, stride_, begin,
-                   end, lagged_j, out_.dispersion_per_weight->data(), passes_.dispersion_.data());
+                   end, passes_.dispersion_.data());
 }
 
 void SingleEvaluation::GatherAndDisperse(int t) {

@@ -22,15 +22,11 @@ struct SingleInputs {
   const OrientationBarrier* barrier;         // null: none
   const double* inverse_star_weight;         // 1 / W per node (docs/physics.md §3)
   bool overwrite;                            // store the forces (SetForces) rather than add them
-  bool double_dispersion;  // also keep J and g in double (a one-pass evaluation lags on them)
 };
 
-/// Where it writes besides the forces: J and g = J / W in double (J only where
-/// double_dispersion), and the barrier's forces (scratch).
+/// Where it writes besides the forces: the barrier's forces (scratch).
 struct SingleOutputs {
   Eigen::Matrix3Xd* forces;
-  Eigen::VectorXd* accumulator;
-  Eigen::VectorXd* dispersion_per_weight;
   Eigen::Matrix3Xd* barrier_forces;
 };
 

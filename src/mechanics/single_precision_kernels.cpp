@@ -122,40 +122,16 @@ void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, con
   }
 }
 
-namespace {
-
-// SingleDispersion's loop; kDouble: also storing J and g in double.
-template <bool kDouble>
-inline __attribute__((always_inline)) void Dispersion(const float* accumulators, double fraction,
-                                                      const double* inverse_star_weight, long n,
-                                                      long begin, long end, double* j, double* g,
-                                                      float* g_single) {
+MSM_SIM_SIMD_CLONES
+void SingleDispersion(const float* accumulators, double fraction, const double* inverse_star_weight,
+                      long n, long begin, long end, float* g_single) {
   const float* __restrict ja = accumulators;
   const float* __restrict jb = accumulators + n;
   const double* __restrict w = inverse_star_weight;
-  double* __restrict j_out = j;
-  double* __restrict g_out = g;
   float* __restrict gs = g_single;
   for (long i = begin; i < end; ++i) {
     const double sum = fraction * (static_cast<double>(ja[i]) + static_cast<double>(jb[i]));
-    const double per_weight = sum * w[i];
-    if constexpr (kDouble) {
-      j_out[i] = sum;
-      g_out[i] = per_weight;
-    }
-    gs[i] = static_cast<float>(per_weight);
-  }
-}
-
-}  // namespace
-
-MSM_SIM_SIMD_CLONES
-void SingleDispersion(const float* accumulators, double fraction, const double* inverse_star_weight,
-                      long n, long begin, long end, double* j, double* g, float* g_single) {
-  if (j != nullptr) {
-    Dispersion<true>(accumulators, fraction, inverse_star_weight, n, begin, end, j, g, g_single);
-  } else {
-    Dispersion<false>(accumulators, fraction, inverse_star_weight, n, begin, end, j, g, g_single);
+    gs[i] = static_cast<float>(sum * w[i]);
   }
 }
 

@@ -148,9 +148,9 @@ void ToSingleNodeArrays(const double* vectors, long n, long begin, long end, con
 
 /// For nodes [begin, end), from the a ends' and the b ends' sums of v L0 t (`accumulators`: a
 /// then b, n each): J = q (a + b) (q = `fraction`) and g = J / W (`inverse_star_weight` = 1 / W)
-/// in double, stored in `j` and `g` unless `j` is null, and g rounded to float in `g_single`.
+/// in double, rounded to float in `g_single`.
 void SingleDispersion(const float* accumulators, double fraction, const double* inverse_star_weight,
-                      long n, long begin, long end, double* j, double* g, float* g_single);
+                      long n, long begin, long end, float* g_single);
 
 /// Adds the a ends' and the b ends' float x, y, z blocks (`end_forces`, 6 blocks of n) of nodes
 /// [begin, end) to their column-major 3-vectors.

@@ -24,7 +24,7 @@ inline Eigen::Matrix3Xd Forces(const Model& model, SpringPrecision precision,
                                int threads = 1) {
   const SpringKernels kernels =
       precision == SpringPrecision::kSingle ? SpringKernels::kAuto : SpringKernels::kPerSpring;
-  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels, threads);
+  ForceEvaluator evaluator(model, kernels, threads);
   evaluator.set_precision(precision);
   return Forces(&evaluator, x, v, beta);
 }

@@ -157,33 +157,30 @@ INSTANTIATE_TEST_SUITE_P(Laws, ForceEvaluatorLaws,
 
 // The power law of docs/physics.md §4.1 on the per-spring path: alpha = 1, beta = 0 gives the
 // linear springs' forces, energy and stiffness and alpha = -1, beta = 0 the carrier springs', in
-// the plain, two-pass and one-pass (lagged) eMSM loops, to 1e-12 of the largest value.
+// the plain and two-pass eMSM loops, to 1e-12 of the largest value.
 void ExpectPowerLawReproduces(const Model& model, double alpha) {
   const Model power = WithSpringLaw(model, SpringLaw::kPower, PowerSpringLaw{alpha, 0.0});
-  for (const DispersionPasses passes : {DispersionPasses::kTwoPass, DispersionPasses::kOnePass}) {
-    ForceEvaluator expected(model, passes, SpringKernels::kPerSpring);
-    ForceEvaluator actual(power, passes);
-    // Two evaluations, so that the one-pass loop runs with its lagged dispersion.
-    for (const unsigned seed : {21u, 22u}) {
-      const Eigen::Matrix3Xd x = Perturbed(model, 0.01, seed);
-      Eigen::Matrix3Xd f_expected = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-      Eigen::Matrix3Xd f_actual = f_expected;
-      expected.AccumulateForces(x, &f_expected);
-      actual.AccumulateForces(x, &f_actual);
-      const double scale = f_expected.cwiseAbs().maxCoeff();
-      ASSERT_GT(scale, 0.0);
-      EXPECT_LE((f_actual - f_expected).cwiseAbs().maxCoeff(), 1e-12 * scale) << "alpha " << alpha;
-      const double energy = expected.ElasticEnergy(x);
-      EXPECT_NEAR(actual.ElasticEnergy(x), energy, 1e-12 * energy);
-      expected.Linearize(x);
-      actual.Linearize(x);
-      Eigen::Matrix3Xd k_expected = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-      Eigen::Matrix3Xd k_actual = k_expected;
-      expected.ApplyStiffness(x, &k_expected);
-      actual.ApplyStiffness(x, &k_actual);
-      EXPECT_LE((k_actual - k_expected).cwiseAbs().maxCoeff(),
-                1e-12 * k_expected.cwiseAbs().maxCoeff());
-    }
+  ForceEvaluator expected(model, SpringKernels::kPerSpring);
+  ForceEvaluator actual(power);
+  for (const unsigned seed : {21u, 22u}) {
+    const Eigen::Matrix3Xd x = Perturbed(model, 0.01, seed);
+    Eigen::Matrix3Xd f_expected = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+    Eigen::Matrix3Xd f_actual = f_expected;
+    expected.AccumulateForces(x, &f_expected);
+    actual.AccumulateForces(x, &f_actual);
+    const double scale = f_expected.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 0.0);
+    EXPECT_LE((f_actual - f_expected).cwiseAbs().maxCoeff(), 1e-12 * scale) << "alpha " << alpha;
+    const double energy = expected.ElasticEnergy(x);
+    EXPECT_NEAR(actual.ElasticEnergy(x), energy, 1e-12 * energy);
+    expected.Linearize(x);
+    actual.Linearize(x);
+    Eigen::Matrix3Xd k_expected = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
+    Eigen::Matrix3Xd k_actual = k_expected;
+    expected.ApplyStiffness(x, &k_expected);
+    actual.ApplyStiffness(x, &k_actual);
+    EXPECT_LE((k_actual - k_expected).cwiseAbs().maxCoeff(),
+              1e-12 * k_expected.cwiseAbs().maxCoeff());
   }
 }
 
@@ -235,30 +232,6 @@ TEST(ForceEvaluator, DispersionAddsQTimesTheDirectBulkResponse) {
   EXPECT_NEAR(dispersed / (2.0 * q * direct), 1.0, 1e-6);
 }
 
-TEST(ForceEvaluator, OnePassLagsTwoPassByOneEvaluation) {
-  const Model model = RandomModel(0.0, SpringLaw::kLinear);
-  const Eigen::Matrix3Xd x1 = Perturbed(model, 0.005, 1);
-  const Eigen::Matrix3Xd x2 = Perturbed(model, 0.005, 2);
-  ForceEvaluator one_pass(model, DispersionPasses::kOnePass);
-  ForceEvaluator two_pass(model, DispersionPasses::kTwoPass);
-  Eigen::Matrix3Xd f1 = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-  Eigen::Matrix3Xd f2 = f1;
-  // First evaluation: one-pass has no history yet and runs both passes.
-  one_pass.AccumulateForces(x1, &f1);
-  two_pass.AccumulateForces(x1, &f2);
-  EXPECT_LT((f1 - f2).norm(), 1e-12 * f2.norm());
-  // Same positions again: the lagged accumulators are exact.
-  f1.setZero();
-  one_pass.AccumulateForces(x1, &f1);
-  EXPECT_LT((f1 - f2).norm(), 1e-12 * f2.norm());
-  // New positions: one-pass uses x1's accumulators, so it differs from the exact forces.
-  f1.setZero();
-  f2.setZero();
-  one_pass.AccumulateForces(x2, &f1);
-  two_pass.AccumulateForces(x2, &f2);
-  EXPECT_GT((f1 - f2).norm(), 1e-3 * f2.norm());
-}
-
 TEST(ExtendedMsm, DispersionRatioRoundTripsAndMatchesLimits) {
   for (const double nu : {-0.9, -0.5, 0.0, 0.25, 0.33, 0.45, 0.49}) {
     EXPECT_NEAR(PoissonFromDispersionRatio(DispersionRatio(nu)), nu, 1e-12);
@@ -293,9 +266,9 @@ TEST(ForceEvaluatorThreads, TwoThreadsMatchOneAndRepeatExactly) {
     x.col(i) += 1e-4 * Eigen::Vector3d(std::sin(i), std::cos(3.0 * i), std::sin(7.0 * i));
   const Eigen::Matrix3Xd v = 0.01 * x;
   auto evaluate = [&](int max_threads) {
-    ForceEvaluator evaluator = max_threads > 0 ? ForceEvaluator(model, DispersionPasses::kTwoPass,
-                                                                SpringKernels::kAuto, max_threads)
-                                               : ForceEvaluator(model);
+    ForceEvaluator evaluator = max_threads > 0
+                                   ? ForceEvaluator(model, SpringKernels::kAuto, max_threads)
+                                   : ForceEvaluator(model);
     Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
     evaluator.AccumulateForces(x, v, 1e-4, &f);
     return std::make_pair(f, Eigen::VectorXd(evaluator.total_tensions()));

@@ -18,17 +18,13 @@ struct Evaluation {
   Eigen::VectorXd tensions;
 };
 
-// Forces (added to a non-zero start, as a step does) and total tensions of `evaluations`
-// successive evaluations at the same positions.
-Evaluation Evaluate(const Model& model, SpringKernels kernels, DispersionPasses passes,
-                    const Eigen::Matrix3Xd& x, const Eigen::Matrix3Xd& v, double beta,
-                    int evaluations = 1) {
-  ForceEvaluator evaluator(model, passes, kernels);
+// Forces (added to a non-zero start, as a step does) and total tensions of one evaluation.
+Evaluation Evaluate(const Model& model, SpringKernels kernels, const Eigen::Matrix3Xd& x,
+                    const Eigen::Matrix3Xd& v, double beta) {
+  ForceEvaluator evaluator(model, kernels);
   Evaluation result;
-  for (int e = 0; e < evaluations; ++e) {
-    result.forces = Eigen::Matrix3Xd::Ones(3, model.num_nodes());
-    evaluator.AccumulateForces(x, v, beta, &result.forces);
-  }
+  result.forces = Eigen::Matrix3Xd::Ones(3, model.num_nodes());
+  evaluator.AccumulateForces(x, v, beta, &result.forces);
   result.tensions = evaluator.total_tensions();
   return result;
 }
@@ -56,9 +52,8 @@ TEST_P(ForceKernels, RunKernelsMatchThePerSpringLoops) {
   const Model model = Block(poisson);
   const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 1);
   const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 2);
-  const auto passes = DispersionPasses::kTwoPass;
-  ExpectSame(Evaluate(model, SpringKernels::kAuto, passes, x, v, beta),
-             Evaluate(model, SpringKernels::kPerSpring, passes, x, v, beta));
+  ExpectSame(Evaluate(model, SpringKernels::kAuto, x, v, beta),
+             Evaluate(model, SpringKernels::kPerSpring, x, v, beta));
 }
 
 // Plain MSM (nu = 1/4) and eMSM (nu = 0.45, -0.5), without and with dampers.
@@ -81,22 +76,8 @@ TEST(ForceKernelsChain, ReversedSpringsKeepTheirEndWeights) {
   const Model model = builder.Build(1e-6, 0.01);
   const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 1e-3, 3);
   const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-  ExpectSame(Evaluate(model, SpringKernels::kAuto, DispersionPasses::kTwoPass, x, v, 0.0),
-             Evaluate(model, SpringKernels::kPerSpring, DispersionPasses::kTwoPass, x, v, 0.0));
-}
-
-TEST(ForceKernelsOnePass, LaggedEvaluationsFollowTheFirstRunEvaluation) {
-  // One-pass dispersion: the first evaluation is two-pass (run kernels), the later ones lag
-  // (per-spring loop) on the accumulators the run kernels left.
-  const Model model = Block(0.45);
-  const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 4);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-  for (const int evaluations : {1, 3}) {
-    ExpectSame(
-        Evaluate(model, SpringKernels::kAuto, DispersionPasses::kOnePass, x, v, 0.0, evaluations),
-        Evaluate(model, SpringKernels::kPerSpring, DispersionPasses::kOnePass, x, v, 0.0,
-                 evaluations));
-  }
+  ExpectSame(Evaluate(model, SpringKernels::kAuto, x, v, 0.0),
+             Evaluate(model, SpringKernels::kPerSpring, x, v, 0.0));
 }
 
 TEST(ForceKernelsLinearize, StiffnessProductMatchesThePerSpringLoops) {
@@ -110,7 +91,7 @@ TEST(ForceKernelsLinearize, StiffnessProductMatchesThePerSpringLoops) {
       Eigen::Matrix3Xd product[2];
       const SpringKernels kernels[2] = {SpringKernels::kAuto, SpringKernels::kPerSpring};
       for (int k = 0; k < 2; ++k) {
-        ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, kernels[k]);
+        ForceEvaluator evaluator(model, kernels[k]);
         evaluator.Linearize(x, geometric);
         evaluator.ApplyStiffness(probe, &product[k]);
         ASSERT_EQ(product[k].cols(), model.num_nodes());
@@ -133,7 +114,7 @@ TEST(ForceKernelsLinearize, DiagonalAndTensionsMatchThePerSpringLoops) {
       const SpringKernels kernels[2] = {SpringKernels::kAuto, SpringKernels::kPerSpring};
       for (int k = 0; k < 2; ++k) {
         // Forces evaluated before in float, as the implicit kick does: Linearize evaluates anew.
-        ForceEvaluator evaluator(model, DispersionPasses::kOnePass, kernels[k]);
+        ForceEvaluator evaluator(model, kernels[k]);
         evaluator.set_precision(SpringPrecision::kSingle);
         Eigen::Matrix3Xd forces = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
         evaluator.AccumulateForces(model.rest_positions(), &forces);

@@ -198,8 +198,8 @@ TEST(OrientationBarrier, AddedByEveryForceLoop) {
   ASSERT_GT(barrier_forces.norm(), 0.0);
   for (const SpringKernels kernels : {SpringKernels::kPerSpring, SpringKernels::kAuto}) {
     for (const SpringPrecision precision : {SpringPrecision::kDouble, SpringPrecision::kSingle}) {
-      ForceEvaluator plain(model, DispersionPasses::kTwoPass, kernels, 2);
-      ForceEvaluator guarded(model, DispersionPasses::kTwoPass, kernels, 2);
+      ForceEvaluator plain(model, kernels, 2);
+      ForceEvaluator guarded(model, kernels, 2);
       plain.set_precision(precision);
       guarded.set_precision(precision);
       guarded.set_orientation_barrier(barrier);

@@ -242,7 +242,7 @@ TEST(SinglePrecisionEvaluator, StiffnessProductsMatchTheDoubleOnes) {
     const Eigen::Matrix3Xd probe = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 1.0, 7);
     for (const GeometricStiffness geometric :
          {GeometricStiffness::kExact, GeometricStiffness::kDropCompression}) {
-      ForceEvaluator exact(model, DispersionPasses::kTwoPass, SpringKernels::kPerSpring);
+      ForceEvaluator exact(model, SpringKernels::kPerSpring);
       exact.Linearize(x, geometric);
       Eigen::Matrix3Xd reference;
       exact.ApplyStiffness(probe, &reference);
@@ -275,7 +275,7 @@ TEST(SinglePrecisionEvaluator, StiffnessProductsOnTwoThreadsAgreeAndRepeat) {
   exact.Linearize(x);
   Eigen::Matrix3Xd reference, product, again;
   exact.ApplyStiffness(probe, &reference);
-  ForceEvaluator single(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, 2);
+  ForceEvaluator single(model, SpringKernels::kAuto, 2);
   single.set_precision(SpringPrecision::kSingle);
   single.Linearize(x);
   single.ApplyStiffness(probe, &product);
@@ -284,29 +284,15 @@ TEST(SinglePrecisionEvaluator, StiffnessProductsOnTwoThreadsAgreeAndRepeat) {
   EXPECT_EQ(product, again);
 }
 
-TEST(SinglePrecisionEvaluator, OnePassDispersionLagsOnTheSingleEvaluation) {
-  // One-pass dispersion: the first evaluation is two-pass (here in single precision), the later
-  // ones lag (double per-spring loop) on the accumulators it left, at new positions each time.
-  const Model model = Block(0.45);
-  const Eigen::Matrix3Xd v = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
-  ForceEvaluator single(model, DispersionPasses::kOnePass);
-  single.set_precision(SpringPrecision::kSingle);
-  ForceEvaluator exact(model, DispersionPasses::kOnePass, SpringKernels::kPerSpring);
-  for (unsigned evaluation = 0; evaluation < 3; ++evaluation) {
-    const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 10 + evaluation);
-    ExpectClose(model, Forces(&single, x, v, 0.0), Forces(&exact, x, v, 0.0));
-  }
-}
-
 TEST(SinglePrecisionEvaluator, SetForcesEqualsAddingOntoZero) {
   // SetForces overwrites whatever *forces held, on every path: the single and double run loops,
-  // and the per-spring loops of a lagged one-pass evaluation.
+  // and the per-spring loops.
   const Model model = Block(0.45);
   const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 5e-4, 20);
   const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 21);
   for (const auto precision : {SpringPrecision::kSingle, SpringPrecision::kDouble}) {
-    for (const auto passes : {DispersionPasses::kTwoPass, DispersionPasses::kOnePass}) {
-      ForceEvaluator set(model, passes), added(model, passes);
+    for (const auto kernels : {SpringKernels::kAuto, SpringKernels::kPerSpring}) {
+      ForceEvaluator set(model, kernels), added(model, kernels);
       set.set_precision(precision);
       added.set_precision(precision);
       for (int evaluation = 0; evaluation < 2; ++evaluation) {
@@ -315,7 +301,7 @@ TEST(SinglePrecisionEvaluator, SetForcesEqualsAddingOntoZero) {
         Eigen::Matrix3Xd sum = Eigen::Matrix3Xd::Zero(3, model.num_nodes());
         added.AccumulateForces(x, v, 1e-3, &sum);
         EXPECT_EQ(overwritten, sum)
-            << static_cast<int>(precision) << " " << static_cast<int>(passes) << " " << evaluation;
+            << static_cast<int>(precision) << " " << static_cast<int>(kernels) << " " << evaluation;
       }
     }
   }

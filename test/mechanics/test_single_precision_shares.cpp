@@ -28,8 +28,8 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
   const double origin[3] = {0.013, -0.002, 0.007};
   const int n = model.num_nodes();
   for (const int threads : {1, 2}) {
-    ForceEvaluator own(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
-    ForceEvaluator ahead(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator own(model, SpringKernels::kAuto, threads);
+    ForceEvaluator ahead(model, SpringKernels::kAuto, threads);
     own.set_precision(SpringPrecision::kSingle);
     ahead.set_precision(SpringPrecision::kSingle);
     ASSERT_TRUE(ahead.RoundsNodes());
@@ -169,8 +169,8 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     ASSERT_GE(model->num_nodes(), 1'000);
     const int n = model->num_nodes();
     const Motion m = PerturbedMotion(*model);
-    ForceEvaluator own(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
-    ForceEvaluator ahead(*model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator own(*model, SpringKernels::kAuto, threads);
+    ForceEvaluator ahead(*model, SpringKernels::kAuto, threads);
     own.set_precision(SpringPrecision::kSingle);
     ahead.set_precision(SpringPrecision::kSingle);
     if (c.cut) {
@@ -209,7 +209,7 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   const Model model = Block(0.45, 0.0035);
   const int n = model.num_nodes();
   ASSERT_GE(n, 1'000);
-  ForceEvaluator evaluator(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, 3);
+  ForceEvaluator evaluator(model, SpringKernels::kAuto, 3);
   evaluator.set_precision(SpringPrecision::kSingle);
   // The shares run on their own threads at once: each records its bounds in its own slot.
   const auto bounds = [&] {
@@ -259,8 +259,8 @@ TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
   const Eigen::Matrix3Xd x = Perturbed(model.rest_positions(), 2.5e-4, 10);
   const Eigen::Matrix3Xd v = Perturbed(Eigen::Matrix3Xd::Zero(3, model.num_nodes()), 0.1, 11);
   for (const int threads : {1, 2}) {
-    ForceEvaluator stored(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
-    ForceEvaluator unstored(model, DispersionPasses::kTwoPass, SpringKernels::kAuto, threads);
+    ForceEvaluator stored(model, SpringKernels::kAuto, threads);
+    ForceEvaluator unstored(model, SpringKernels::kAuto, threads);
     stored.set_precision(SpringPrecision::kSingle);
     unstored.set_precision(SpringPrecision::kSingle);
     Eigen::Matrix3Xd expected;

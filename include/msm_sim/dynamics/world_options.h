@@ -3,7 +3,6 @@
 #include <Eigen/Core>
 
 #include "msm_sim/dynamics/integrator.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/mechanics/spring_precision.h"
 
 namespace msm_sim::core {
@@ -13,7 +12,6 @@ struct BodyOptions {
   double damping_beta = 0.0;  ///< s: spring dampers c = beta k (docs/physics.md §7)
   double friction = 0.5;      ///< Coulomb coefficient of the body's surface
   double restitution = 1.0;   ///< e in [0, 1] for contacts between MSM nodes
-  DispersionPasses dispersion = DispersionPasses::kTwoPass;
   /// Border nodes collide with border nodes of the same body that were at least 2.5 longest
   /// springs apart at rest (a fold), never with the ones near them. Off by default: objects a
   /// robot handles rarely fold onto themselves, and a very soft ball squashed flat gained energy

@@ -3,7 +3,6 @@
 #include <memory>
 
 #include "msm_sim/dynamics/integrator.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -29,7 +28,6 @@ struct GraspExperimentOptions {
   double final_hold = 1.0;      ///< s, finite, >= 0
   double gravity = 9.81;        ///< m/s^2, finite, > 0, along -z
   double damping_beta = 1e-3;   ///< s, finite, >= 0: the body's spring dampers c = beta k
-  DispersionPasses dispersion = DispersionPasses::kTwoPass;  ///< BodyOptions::dispersion
   /// BodyOptions::orientation_threshold, 0 (off) or in (0, 1); ignored by a model without cells
   /// (random lattices). On by default: a hard squeeze folds the cells of a cubic lattice under
   /// the pads' edges, which then snap through (docs/physics.md §4, "Orientation barrier").

@@ -3,7 +3,6 @@
 #include <memory>
 
 #include "msm_sim/dynamics/world.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -21,7 +20,6 @@ struct GripExperimentOptions {
   double hold_ratio = 1.3;     ///< 2 mu F_n / (m g) the friction is chosen for, finite, > 0
   double gravity = 9.81;       ///< m/s^2, finite, > 0, along -z
   double damping_beta = 1e-3;  ///< s, finite, >= 0: the body's spring dampers c = beta k
-  DispersionPasses dispersion = DispersionPasses::kTwoPass;
   double close_time = 0.05;    ///< s, finite, > 0
   double settle_time = 0.15;   ///< s, finite, > 0 (includes the measurement window)
   double measure_time = 0.05;  ///< s, finite, in (0, settle_time]

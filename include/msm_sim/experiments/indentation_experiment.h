@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "msm_sim/dynamics/world.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/mechanics/spring_precision.h"
 #include "msm_sim/model/model.h"
 
@@ -30,7 +29,6 @@ struct IndentationExperimentOptions {
   /// Coulomb coefficient between the sphere and the body, finite, >= 0 (World::SetPairFriction).
   /// Hertz's contact is frictionless; 0.5 is the package's default surface (BodyOptions).
   double friction = 0.5;
-  DispersionPasses dispersion = DispersionPasses::kTwoPass;
   /// Rows of the profile over the depth, >= 1: each row covers about D / samples of depth.
   int samples = 50;
   double start_gap = 1e-4;  ///< m, finite, >= 0: sphere to the nearest collision sphere at start

@@ -4,7 +4,6 @@
 #include <string>
 
 #include "msm_sim/dynamics/world.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/mechanics/spring_precision.h"
 #include "msm_sim/model/model.h"
 
@@ -22,8 +21,7 @@ struct RealtimeExperimentOptions {
   double seconds = 0.5;         ///< simulated s, finite, > 0
   double step = 1e-3;           ///< s, finite, > 0: World::Step(step), subdivided inside
   double damping_beta = 1e-4;   ///< s, finite, >= 0: spring dampers c = beta k
-  DispersionPasses dispersion = DispersionPasses::kTwoPass;
-  double gravity = 9.81;  ///< m/s^2, finite, >= 0, along -z
+  double gravity = 9.81;        ///< m/s^2, finite, >= 0, along -z
   double friction = 0.5;  ///< Coulomb coefficient of the body, the ground and the sphere, >= 0
   /// kImplicit: one implicit substep per step (WorldOptions::implicit_max_substep = step).
   Integrator integrator = Integrator::kExplicit;

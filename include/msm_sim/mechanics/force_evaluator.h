@@ -8,7 +8,6 @@
 #include <Eigen/Core>
 
 #include "msm_sim/mechanics/cache_line_allocator.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/mechanics/orientation_barrier.h"
 #include "msm_sim/mechanics/spring_precision.h"
 #include "msm_sim/model/model.h"
@@ -73,20 +72,20 @@ enum class GeometricStiffness {
 ///
 /// Linear springs on a lattice whose springs line up in rows (cubic lattices) are evaluated by
 /// vectorised kernels over a re-ordered copy of the springs; other models (random lattices,
-/// carrier springs, Baudet elements, the one-pass lag) by per-spring loops. Both give the same
-/// forces up to rounding.
+/// carrier springs, Baudet elements) by per-spring loops. Both give the same forces up to
+/// rounding.
 ///
-/// Holds scratch buffers and (for one-pass dispersion) the previous accumulators, so use one
-/// evaluator per simulated state. Precondition: the Model outlives the evaluator; positions have
-/// model.num_nodes() columns and no spring has zero length.
+/// Holds scratch buffers, so use one evaluator per simulated state. Precondition: the Model
+/// outlives the evaluator; positions have model.num_nodes() columns and no spring has zero
+/// length.
 class ForceEvaluator {
  public:
   /// `max_threads` (>= 1, at most 4,095): the threads the spring passes may use, on the
   /// process's worker pool (internal::SharePlan: the double loops of models of 50,000 springs
   /// or more, the single loops of 1,000 nodes or more in exactly max_threads node shares, so
   /// that the sums depend on the thread count only). One by default: a robot shares the cores.
-  explicit ForceEvaluator(const Model& model, DispersionPasses passes = DispersionPasses::kTwoPass,
-                          SpringKernels kernels = SpringKernels::kAuto, int max_threads = 1);
+  explicit ForceEvaluator(const Model& model, SpringKernels kernels = SpringKernels::kAuto,
+                          int max_threads = 1);
   ForceEvaluator(const ForceEvaluator& other);
   ForceEvaluator(ForceEvaluator&& other) noexcept;
   ForceEvaluator& operator=(const ForceEvaluator& other);
@@ -222,7 +221,7 @@ class ForceEvaluator {
 
  private:
   /// Takes the loops that suit the model and the precision (the run kernels, else the
-  /// per-spring loops) and keeps the one-pass history.
+  /// per-spring loops).
   void Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                   Eigen::Matrix3Xd* forces);
   /// The double run kernels (plain or two-pass eMSM) over the spring schedule.
@@ -238,8 +237,8 @@ class ForceEvaluator {
   /// Whether an evaluation now takes the single-precision loops.
   bool UsesSingleLoops() const;
 
-  /// The per-spring reference loops (any model; force_evaluator_reference.cpp): plain, two-pass
-  /// or lagged one-pass eMSM (docs/physics.md §3), then the Baudet elements.
+  /// The per-spring reference loops (any model; force_evaluator_reference.cpp): plain or two-pass
+  /// eMSM (docs/physics.md §3), then the Baudet elements.
   void AccumulatePerSpring(const Eigen::Matrix3Xd& positions, const Damping& damping,
                            Eigen::Matrix3Xd* forces);
   template <bool Damped>
@@ -254,9 +253,6 @@ class ForceEvaluator {
   template <bool Damped>
   void OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
                    Eigen::Matrix3Xd* forces);
-  template <bool Damped, class Law>
-  void LaggedPass(const Law& law, const Eigen::Matrix3Xd& positions, const Damping& damping,
-                  Eigen::Matrix3Xd* forces);
   void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
   void ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// ApplyStiffness without the orientation barrier.
@@ -284,7 +280,6 @@ class ForceEvaluator {
   Eigen::Matrix3Xd ScheduledStiffnessDiagonal() const;
 
   const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
-  DispersionPasses passes_;
   // The share plan (threads, shares) and the single loops' stage pipeline with its node arrays.
   internal::Copied<internal::SharePlan> plan_;
   internal::Copied<internal::SinglePasses> single_passes_;
@@ -310,7 +305,6 @@ class ForceEvaluator {
   // The double run kernels' first pass: J / q at the springs' a ends (N), then at the b ends.
   Eigen::VectorXd end_sums_;
   Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
-  bool has_previous_dispersion_ = false;
   // The per-spring linearisation (model order), filled only where there is no schedule.
   Eigen::Matrix3Xd directions_;  // unit vectors a -> b
   Eigen::VectorXd lengths_;

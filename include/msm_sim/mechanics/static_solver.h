@@ -32,8 +32,8 @@ struct StaticSolverReport {
 /// vanish on every free DOF.
 ///
 /// Newton's method: each iteration solves K dx = f for the free DOFs, K the exact linearisation
-/// of the forces applied matrix-free (ForceEvaluator::ApplyStiffness, exact two-pass dispersion:
-/// a lagged one-pass residual is not a function of the positions, so Newton cannot use it), with
+/// of the forces applied matrix-free (ForceEvaluator::ApplyStiffness, exact two-pass dispersion),
+/// with
 /// Eigen's conjugate gradient when K is symmetric (no dispersion, or linear springs with it) and
 /// BiCGSTAB when it is not (carrier springs with eMSM dispersion; see
 /// ForceEvaluator::stiffness_is_symmetric), both with a Jacobi preconditioner from the exact
