@@ -28,6 +28,10 @@ packages=(
   ros-robot-state-publisher python3-rospy rviz xvfb imagemagick
   # The grasp demo's script reads the object's frame from /tf.
   python3-tf2-msgs
+  # The Python module msm_sim (docs/python.md): the extension, its arrays, the sweeps on Dask
+  # with their grid files and progress bar, and its tests.
+  pybind11-dev python3-pybind11 python3-numpy python3-yaml python3-distributed python3-tqdm
+  python3-pytest
 )
 
 missing=()
