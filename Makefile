@@ -5,7 +5,7 @@
 #               plot it (build/demo/demo.png)
 #   make lab    the same, then the materials lab on a default block
 #   make test   install dependencies, build, run every gtest and rostest, fail on any failure
-#   make bench  build and run the Google Benchmarks (bench/)
+#   make bench  build and run the Google Benchmarks and the Python ones (bench/)
 #   make validate  the accuracy and speed checks, written to docs/validation.md with figures
 #   make soak   10 simulated minutes of random pushes on two objects (not part of `make test`)
 #   make test-sanitize  the core and lab gtests under AddressSanitizer and UBSan (build/ws-sanitize)
@@ -121,6 +121,9 @@ bench: build
 	$(WS)/devel/lib/msm_sim/msm_sim_benchmarks
 	if [ -x $(WS)/devel/lib/msm_sim/msm_sim_bullet_benchmark ]; then \
 	  $(WS)/devel/lib/msm_sim/msm_sim_bullet_benchmark; fi
+	source $(WS)/devel/setup.bash && \
+	  python3 $(ROOT)/bench/python_step_benchmark.py $(WS)/devel/lib/msm_sim/msm_world_reference && \
+	  python3 $(ROOT)/bench/sweep_scaling_benchmark.py
 
 format:
 	clang-format -i $$(git -C $(ROOT) ls-files '*.cpp' '*.h')

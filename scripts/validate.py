@@ -193,7 +193,7 @@ class Validation:
             "`msm_lab grasp`: force-controlled pads squeeze a silicone object (E = 259 kPa, "
             "ν = 0.49, ρ = 1070, 4 mm, `surface_dispersion` 0.25) until 2μF_n = Q m g (μ = 0.8) "
             "and lift it 5 cm in 1 s; held means it rose ≥ 49 mm and slipped ≤ 1 mm. Expected: "
-            "held at Q = 1.5, dropped at Q = 0.6. The whole grid: `scripts/grasp_grid.py`.",
+            "held at Q = 1.5, dropped at Q = 0.6. The whole grid: `config/sweeps/grasp.yaml`.",
             rows, ("object", "Q", "nodes", "rise (mm)", "slip (mm)", "outcome",
                    "max node speed (m/s)", "real-time factor"))
 
