@@ -109,8 +109,14 @@ def test_worker_killed_mid_sweep_leaves_every_point_once(cluster, tmp_path):
     grid, out = tmp_path / "grid.yaml", tmp_path / "results.jsonl"
     grid.write_text(GRID)
     run = run_sweep(grid, out, "--scheduler", address)
-    wait_for(lambda: out.exists() and out.read_text().count("\n") >= 1, "the first result")
-    os.kill(workers[1].pid, signal.SIGKILL)
+    from distributed import Client
+    with Client(address) as client:
+        doomed = next(a for a, w in client.scheduler_info()["workers"].items()
+                      if w["name"] == "w1")
+        # Killed while it runs a point, once the sweep has written its first record.
+        wait_for(lambda: out.exists() and out.read_text().count("\n") >= 1
+                 and client.processing(workers=[doomed])[doomed], "w1 running a later point")
+        os.kill(workers[1].pid, signal.SIGKILL)
     stdout, stderr = run.communicate(timeout=300)
     assert run.returncode == 0, stderr
     found = records(out)
