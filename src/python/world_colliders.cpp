@@ -98,7 +98,22 @@ int AddCollider(core::World& world, const std::string& name, const std::string& 
   return world.AddCollider(collider);
 }
 
-void BindPushes(py::class_<core::World>& world) {
+// Clamps only: a moving group's pose would be a Python callback run inside Step, which holds no
+// GIL there.
+void BindPushesAndClamps(py::class_<core::World>& world) {
+  world.def(
+      "add_clamp",
+      [](core::World& w, int body, const std::string& name,
+         const std::vector<core::NodeIndex>& nodes) {
+        CheckBody(w, body);
+        core::KinematicGroup group;
+        group.name = name;
+        group.nodes = nodes;
+        return w.AddKinematicGroup(body, group);
+      },
+      py::arg("body"), py::arg("name"), py::arg("nodes"),
+      "Fixes the body's nodes where they are; returns the group's index. Its reaction comes "
+      "after the colliders in wrenches(body).");
   world.def(
       "apply_force",
       [](core::World& w, int body, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
@@ -147,7 +162,7 @@ void BindColliders(py::class_<core::World>& world) {
           py::arg("body"), "Per collider (then per kinematic group) what the body exerted.")
       .def("contact_points", &ContactPoints, py::arg("body"),
            "The last step's microcollisions (record_contact_points=True), as arrays.");
-  BindPushes(world);
+  BindPushesAndClamps(world);
 }
 
 }  // namespace msm_sim::python

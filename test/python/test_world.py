@@ -72,6 +72,22 @@ def test_contact_points_recorded():
     assert k > 0 and points["point"].shape == (k, 3) and points["node"].dtype == np.int32
 
 
+def test_clamp_holds_its_nodes_and_carries_the_weight():
+    material = msm_sim.Material(youngs=5e4, poisson=0.3, density=1000.0)
+    cube = msm_sim.build_model(material, "box", size=[0.04, 0.04, 0.04], spacing=0.01)
+    world = msm_sim.World(gravity=[0.0, 0.0, -9.81])
+    body = world.add_body("cube", cube, damping_beta=0.01)
+    top = np.flatnonzero(cube.rest_positions[:, 2] > 0.01)
+    assert world.add_clamp(body, "hook", top) == 0
+    for _ in range(300):
+        world.step(1e-3)
+    assert np.array_equal(world.positions(body)[top], cube.rest_positions[top])
+    hook = world.wrenches(body)[0]
+    assert hook["force"][2] < 0.0  # the hanging cube pulls the hook down
+    with pytest.raises(ValueError):
+        world.add_clamp(body, "bad", [cube.num_nodes])
+
+
 def test_model_file_round_trip(tmp_path):
     material = msm_sim.Material.from_shore(30, poisson=0.45, density=1070.0, scale="00")
     assert 0.0 < material.youngs < 1e6
