@@ -116,16 +116,21 @@ void BindWorld(py::module_& module) {
            py::arg("spring_precision") = "single", py::arg("record_contact_points") = false)
       .def(
           "add_body",
-          [](core::World& w, const std::string& name, const PyModel& model, double damping_beta,
-             double friction, double restitution) {
+          // The body options by the scene YAML's names (docs/scenes.md, objects[]).
+          [](core::World& w, const std::string& name, const PyModel& model, double damping,
+             double friction, double restitution, double orientation_threshold) {
             core::BodyOptions options;
-            options.damping_beta = damping_beta;
+            options.damping_beta = damping;
             options.friction = friction;
             options.restitution = restitution;
+            options.orientation_threshold = orientation_threshold;
             return w.AddBody(name, model.model, options);
           },
-          py::arg("name"), py::arg("model"), py::kw_only(), py::arg("damping_beta") = 0.0,
-          py::arg("friction") = 0.5, py::arg("restitution") = 1.0)
+          py::arg("name"), py::arg("model"), py::kw_only(), py::arg("damping") = 0.0,
+          py::arg("friction") = 0.5, py::arg("restitution") = 1.0,
+          py::arg("orientation_threshold") = 0.0,
+          "Adds a body at rest at the model's rest positions; returns its index. damping: s, "
+          "spring dampers c = damping k.")
       .def(
           "step",
           [](core::World& w, double dt) {

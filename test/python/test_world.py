@@ -76,7 +76,7 @@ def test_clamp_holds_its_nodes_and_carries_the_weight():
     material = msm_sim.Material(youngs=5e4, poisson=0.3, density=1000.0)
     cube = msm_sim.build_model(material, "box", size=[0.04, 0.04, 0.04], spacing=0.01)
     world = msm_sim.World(gravity=[0.0, 0.0, -9.81])
-    body = world.add_body("cube", cube, damping_beta=0.01)
+    body = world.add_body("cube", cube, damping=0.01)
     top = np.flatnonzero(cube.rest_positions[:, 2] > 0.01)
     assert world.add_clamp(body, "hook", top) == 0
     for _ in range(300):
