@@ -27,6 +27,8 @@ def arguments(command, options):
         if name == "json":
             raise ValueError("json: msm_sim.lab always asks for --json")
         flag = "--" + name.replace("_", "-")
+        if hasattr(value, "tolist"):  # a numpy array or scalar
+            value = value.tolist()
         if isinstance(value, bool):
             if name in FLAGS:
                 args += [flag] if value else []
@@ -41,7 +43,7 @@ def arguments(command, options):
 
 def _text(value):
     # repr gives the shortest text that reads back as the same double.
-    return repr(value) if isinstance(value, float) else str(value)
+    return repr(float(value)) if isinstance(value, float) else str(value)
 
 
 def run(command, **options):

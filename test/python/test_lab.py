@@ -3,6 +3,7 @@ last digit, wall-clock timings aside, and the same error line."""
 import json
 import subprocess
 
+import numpy as np
 import pytest
 
 from msm_sim import lab
@@ -59,6 +60,8 @@ def test_arguments_spell_the_command_line():
                                    "antialias": False, "seed": 3}) == [
         "build", "--size", "0.1", "0.2", "0.3", "--force-ratio", "0.1", "--self-calibrate",
         "--antialias", "off", "--seed", "3", "--json"]
+    assert lab.arguments("build", {"size": np.array([0.1, 0.2, 0.3]), "spacing": np.float64(0.1)})[
+        1:6] == ["--size", "0.1", "0.2", "0.3", "--spacing"]
     with pytest.raises(ValueError, match="unknown msm_lab command 'bend'"):
         lab.arguments("bend", {})
 
