@@ -19,19 +19,25 @@ __all__ = ["Material", "Model", "World", "build_model", "lab", "load_model"]
 
 def build_model(material, shape="box", *, size=(0.1, 0.1, 0.1), radius=0.05, length=0.1,
                 mesh="", scale=1.0, model="cubic", spacing=0.0, target_nodes=0,
-                spring="linear", alpha=1.0, beta=0.0, antialias=True, seed=1,
+                spring=None, tensile_law=None, antialias=True, seed=1,
                 self_calibrate=False, free_face_bending=False, surface_dispersion=1.0):
     """The calibrated model of a shape centred on the origin, by the scene YAML's names.
 
     shape: box (size, m), sphere (radius), cylinder (radius, length along z) or mesh (a closed
     mesh file, scaled by scale). model: cubic, random or baudet (boxes). One of spacing (m) and
-    target_nodes is needed. spring: linear, nonlinear or power (the fitted law's alpha and
-    beta, as `msm_lab fit --tensile` gives them). antialias, seed, self_calibrate,
-    free_face_bending and surface_dispersion as in docs/scenes.md. Raises ValueError for
-    options no builder takes.
+    target_nodes is needed. tensile_law: a mapping with the fitted power law's alpha and beta
+    (what `msm_lab fit --tensile`, or msm_sim.lab.fit(tensile=...), returns). spring: linear,
+    nonlinear or power; default power with a tensile_law, else linear. antialias, seed,
+    self_calibrate, free_face_bending and surface_dispersion as in docs/scenes.md. Raises
+    ValueError for options no builder takes.
     """
+    if spring is None:
+        spring = "power" if tensile_law is not None else "linear"
+    if spring == "power" and tensile_law is None:
+        raise ValueError("spring power needs a tensile_law {alpha, beta}")
+    law = tensile_law if tensile_law is not None else {"alpha": 1.0, "beta": 0.0}
     lattice = {"model": model, "spacing": float(spacing), "target_nodes": int(target_nodes),
-               "spring": spring, "alpha": float(alpha), "beta": float(beta),
+               "spring": spring, "alpha": float(law["alpha"]), "beta": float(law["beta"]),
                "antialias": bool(antialias), "seed": int(seed),
                "self_calibrate": bool(self_calibrate),
                "free_face_bending": bool(free_face_bending),

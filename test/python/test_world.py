@@ -88,6 +88,24 @@ def test_clamp_holds_its_nodes_and_carries_the_weight():
         world.add_clamp(body, "bad", [cube.num_nodes])
 
 
+def test_tensile_law_makes_power_springs_that_stiffen_in_tension():
+    material = msm_sim.Material(youngs=5e4, poisson=0.3, density=1000.0)
+    linear = msm_sim.build_model(material, "box", size=[0.04, 0.04, 0.04], spacing=0.01)
+    power = msm_sim.build_model(material, "box", size=[0.04, 0.04, 0.04], spacing=0.01,
+                                tensile_law={"alpha": 1.0, "beta": 5.0})
+    # The laws share the small-strain stiffness; beta stiffens the springs when stretched.
+    assert np.array_equal(power.spring_stiffness, linear.spring_stiffness)
+    stretched = []
+    for model in (linear, power):
+        world = msm_sim.World(gravity=[0.0, 0.0, 0.0])
+        body = world.add_body("cube", model)
+        world.set_state(body, model.rest_positions * [1.2, 1.0, 1.0], np.zeros((64, 3)))
+        stretched.append(world.energies(body)["elastic"])
+    assert stretched[1] > stretched[0] > 0.0
+    with pytest.raises(ValueError, match="tensile_law"):
+        msm_sim.build_model(material, "box", size=[0.04] * 3, spacing=0.01, spring="power")
+
+
 def test_model_file_round_trip(tmp_path):
     material = msm_sim.Material.from_shore(30, poisson=0.45, density=1070.0, scale="00")
     assert 0.0 < material.youngs < 1e6
