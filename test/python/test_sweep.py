@@ -56,10 +56,25 @@ def cluster(tmp_path):
                 process.wait(timeout=30)
 
 
+STARTED = []  # every sweep process a test started, ended by the autouse fixture below
+
+
+@pytest.fixture(autouse=True)
+def end_sweeps():
+    yield
+    while STARTED:
+        process = STARTED.pop()
+        if process.poll() is None:
+            process.kill()
+            process.communicate()
+
+
 def run_sweep(grid, out, *options):
-    return subprocess.Popen([sys.executable, "-m", "msm_sim.sweep", str(grid), "--out", str(out)]
-                            + list(options), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
+    process = subprocess.Popen([sys.executable, "-m", "msm_sim.sweep", str(grid), "--out",
+                                str(out)] + list(options), stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, text=True)
+    STARTED.append(process)
+    return process
 
 
 def records(out):
