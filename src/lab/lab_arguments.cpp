@@ -16,7 +16,7 @@ namespace {
 
 constexpr const char* kCommands[] = {"compression", "deflection", "poisson-sweep", "build",
                                      "slide",       "realtime",   "indent",        "fit",
-                                     "grip",        "grasp",      "material"};
+                                     "grip",        "grasp",      "material",      "squeeze"};
 
 // The sphere commands' model options: --model defaults to cubic.
 bool ModelOptional(Body body) {
@@ -190,7 +190,8 @@ std::string MissingBodyOption(const CommandLine& line) {
       line.material->get_option("--shore-00")->count() == 0) {
     return "material needs --shore-a S or --shore-00 S";
   }
-  if (line.grasp->parsed()) return GraspShapeProblem(line);
+  if (line.grasp->parsed()) return GraspShapeProblem(line, "grasp");
+  if (line.squeeze->parsed()) return GraspShapeProblem(line, "squeeze");
   if (line.fit->parsed()) return FitOptionProblem(line);
   if (line.compression->parsed() && line.size.empty() && model.mesh.empty()) {
     return "compression needs --size LX LY LZ or --mesh FILE";
@@ -261,6 +262,8 @@ LabArguments ParsedArguments(CommandLine* line) {
     ApplyGripDefaults(line);
   } else if (line->grasp->parsed()) {
     arguments.command = LabCommand::kGrasp;
+  } else if (line->squeeze->parsed()) {
+    arguments.command = LabCommand::kSqueeze;
   } else {
     arguments.command = LabCommand::kPoissonSweep;
     ApplySweepDefaults(line);
@@ -289,11 +292,12 @@ ParseOutcome ParseLabArguments(const std::vector<std::string>& argv) {
   AddSphereCommands(&app, &line);
   AddGripCommand(&app, &line);
   AddGraspCommand(&app, &line);
+  AddSqueezeCommand(&app, &line);
 
   if (IsUnknownCommand(argv)) {
     return Failure("unknown command '" + argv[1] +
                    "' (expected compression, deflection, poisson-sweep, build, slide, realtime, "
-                   "indent, fit, grip, grasp or material)");
+                   "indent, fit, grip, grasp, material or squeeze)");
   }
   // CLI11 wants argv without the program name, in reverse order.
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());

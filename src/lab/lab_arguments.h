@@ -49,7 +49,8 @@ enum class LabCommand {
   kFit,
   kGrip,
   kGrasp,
-  kMaterial
+  kMaterial,
+  kSqueeze
 };
 
 /// `msm_lab slide`: a box of nodes sliding to a stop on the ground (thesis 6.4).
@@ -121,6 +122,20 @@ struct GraspArguments {
   std::string integrator = "explicit";  ///< explicit | implicit
 };
 
+/// `msm_lab squeeze`: an object between two rigid flat plates closing on it
+/// (core::RunSqueezeExperiment; its defaults). The object is GraspArguments' shape, radius and
+/// length.
+struct SqueezeArguments {
+  double approach = 0.0;                ///< m, both plates together
+  double speed = 0.005;                 ///< m/s, each plate
+  double friction = 0.0;                ///< Coulomb coefficient with the plates
+  double damping = 1e-4;                ///< s, spring dampers c = beta k
+  double orientation_threshold = 0.5;   ///< 0 (off) or in (0, 1): core::BodyOptions
+  int samples = 30;                     ///< rows of the profile
+  std::string integrator = "explicit";  ///< explicit | implicit
+  double time_step_safety = 0.8;        ///< WorldOptions::time_step_safety, (0, 1]
+};
+
 /// `msm_lab material`: Young's modulus from a datasheet's Shore hardness (exactly one of them).
 struct HardnessArguments {
   double shore_a = 0.0;
@@ -151,6 +166,7 @@ struct LabArguments {
   FitArguments fit;
   GripArguments grip;
   GraspArguments grasp;
+  SqueezeArguments squeeze;
   HardnessArguments hardness;
   bool json = false;
 };

@@ -47,6 +47,7 @@ struct CommandLine {
   CLI::App* grip = nullptr;
   CLI::App* grasp = nullptr;
   CLI::App* material = nullptr;
+  CLI::App* squeeze = nullptr;
 };
 
 /// Options describing the model, in the order --help lists them.
@@ -78,8 +79,11 @@ void AddGripCommand(CLI::App* app, CommandLine* line);
 /// The grasp command (lab_grasp_arguments.cpp).
 void AddGraspCommand(CLI::App* app, CommandLine* line);
 
-/// grasp: the shape's own options (--size, --radius, --length, --mesh) agree with --shape; the
-/// reason when they do not, empty otherwise.
-std::string GraspShapeProblem(const CommandLine& line);
+/// The squeeze command (lab_squeeze_arguments.cpp).
+void AddSqueezeCommand(CLI::App* app, CommandLine* line);
+
+/// grasp and squeeze (`command`): the shape's own options (--size, --radius, --length, --mesh)
+/// agree with --shape; the reason when they do not, empty otherwise.
+std::string GraspShapeProblem(const CommandLine& line, const std::string& command);
 
 }  // namespace msm_sim::lab

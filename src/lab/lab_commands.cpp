@@ -18,6 +18,7 @@
 #include "lab_material_command.h"
 #include "lab_model.h"
 #include "lab_report.h"
+#include "lab_squeeze_command.h"
 #include "msm_sim/experiments/compression_experiment.h"
 #include "msm_sim/experiments/slide_experiment.h"
 #include "msm_sim/geometry/vtk_export.h"
@@ -289,6 +290,8 @@ int RunLabCommand(const LabArguments& arguments, std::ostream& out, std::ostream
       return RunGrasp(arguments, out);
     case LabCommand::kMaterial:
       return RunMaterial(arguments, out);
+    case LabCommand::kSqueeze:
+      return RunSqueeze(arguments, out, err);
   }
   return 1;
 }

@@ -49,13 +49,13 @@ void AddGraspCommand(CLI::App* app, CommandLine* line) {
   command->add_flag("--json", line->arguments.json, "print one JSON object");
 }
 
-std::string GraspShapeProblem(const CommandLine& line) {
+std::string GraspShapeProblem(const CommandLine& line, const std::string& command) {
   const GraspArguments& grasp = line.arguments.grasp;
   const bool size = !line.size.empty(), mesh = !line.arguments.model.mesh.empty();
   const bool radius = grasp.radius > 0.0, length = grasp.length > 0.0;
   const std::string& shape = grasp.shape;
   if ((shape == "box" || shape == "ellipsoid") && !(size && !radius && !length)) {
-    return "grasp --shape " + shape + " needs --size LX LY LZ (and no --radius, --length)";
+    return command + " --shape " + shape + " needs --size LX LY LZ (and no --radius, --length)";
   }
   if (shape == "sphere" && !(radius && !size && !mesh && !length)) {
     return "grasp --shape sphere needs --radius R (and no --size, --mesh, --length)";
@@ -67,7 +67,7 @@ std::string GraspShapeProblem(const CommandLine& line) {
     return "grasp --shape mesh needs --mesh FILE (and no --radius, --length)";
   }
   if (line.arguments.model.spacing == 0.0 && line.arguments.model.target_nodes == 0) {
-    return "grasp needs --spacing A or --target-nodes N";
+    return command + " needs --spacing A or --target-nodes N";
   }
   return "";
 }

@@ -27,7 +27,8 @@ LabBody BodyOfSolid(core::SolidMesh solid) {
   return body;
 }
 
-// The object --shape names, centred on the origin (a mesh where its file puts it).
+}  // namespace
+
 LabBody GraspBody(const LabArguments& arguments) {
   const GraspArguments& grasp = arguments.grasp;
   if (grasp.shape == "box" || grasp.shape == "mesh") return LoadLabBody(arguments.model, false);
@@ -47,6 +48,8 @@ LabBody GraspBody(const LabArguments& arguments) {
   mesh.vertices.row(2) = along_z.row(1);
   return BodyOfSolid(core::SolidMesh(mesh));
 }
+
+namespace {
 
 core::GraspExperimentOptions GraspOptions(const LabArguments& arguments) {
   const GraspArguments& grasp = arguments.grasp;

@@ -5,8 +5,14 @@
 #include <ostream>
 
 #include "lab_arguments.h"
+#include "lab_model.h"
 
 namespace msm_sim::lab {
+
+/// The object --shape names (grasp and squeeze), centred on the origin (a mesh where its file
+/// puts it): box and ellipsoid of --size, sphere of --radius, cylinder of --radius and --length
+/// lying along y, or --mesh.
+LabBody GraspBody(const LabArguments& arguments);
 
 /// Builds the object --shape names (box and ellipsoid of --size, sphere of --radius, cylinder
 /// of --radius and --length lying along y, or --mesh) and runs the grasp. Writes a table, or
