@@ -1,0 +1,189 @@
+// The squeeze against CalculiX (issue 61): a sphere of 5 cm diameter, E 259 kPa, between rigid
+// frictionless plates closed to 30 % of its diameter, on a 3 mm cubic lattice, against the stored
+// axisymmetric neo-Hookean reference (test/data/calculix_squeeze_nu0*.csv, made by
+// scripts/calculix_squeeze.py; test/data/README.md). The power law is fitted here, as a user
+// would, to the same neo-Hookean material's uniaxial curve (test/data/neo_hookean_*_tensile.csv,
+// scripts/hyperelastic_tensile.py). Needs no ccx.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "lab_grasp_command.h"
+#include "lab_model.h"
+#include "msm_sim/experiments/indentation_experiment.h"
+#include "msm_sim/experiments/squeeze_experiment.h"
+#include "msm_sim/experiments/tensile_fit.h"
+
+namespace msm_sim::core {
+namespace {
+
+constexpr double kRadius = 0.025;
+constexpr double kYoungs = 259e3;
+constexpr double kSpacing = 0.003;
+
+struct ReferenceRow {
+  double approach, force, radius;
+};
+
+std::vector<ReferenceRow> ReadReference(const std::string& name) {
+  std::ifstream in(std::string(MSM_SIM_TEST_DATA_DIR) + "/" + name);
+  std::vector<ReferenceRow> rows;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#' || line[0] == 'a') continue;
+    std::istringstream fields(line);
+    ReferenceRow row{};
+    char comma = 0;
+    fields >> row.approach >> comma >> row.force >> comma >> row.radius;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// The reference at this approach: the force interpolated as a local power of the approach (the
+// curve is close to one, Hertz's 3/2 at small approach), the radius linearly.
+ReferenceRow ReferenceAt(const std::vector<ReferenceRow>& rows, double approach) {
+  std::size_t k = 1;
+  while (k + 1 < rows.size() && rows[k].approach < approach) ++k;
+  const ReferenceRow& a = rows[k - 1];
+  const ReferenceRow& b = rows[k];
+  const double t = (approach - a.approach) / (b.approach - a.approach);
+  const double p = std::log(b.force / a.force) / std::log(b.approach / a.approach);
+  return {approach, a.force * std::pow(approach / a.approach, p),
+          a.radius + t * (b.radius - a.radius)};
+}
+
+TensileFitResult FitNeoHookean(double poisson, const std::string& curve_name) {
+  std::ifstream csv(std::string(MSM_SIM_TEST_DATA_DIR) + "/" + curve_name);
+  const TensileCurve curve = ReadTensileCurve(csv, TensileColumns{});
+  TensileFitOptions options;
+  options.poisson = poisson;
+  return FitTensileCurve(curve.points, options);
+}
+
+SqueezeExperimentResult SqueezeSphere(double youngs, double poisson, const PowerSpringLaw* law,
+                                      double fraction) {
+  lab::LabArguments arguments;
+  arguments.grasp.shape = "sphere";
+  arguments.grasp.radius = kRadius;
+  lab::ModelArguments& model = arguments.model;
+  model.spacing = kSpacing;
+  model.youngs = youngs;
+  model.poisson = poisson;
+  model.density = 1100.0;
+  if (law != nullptr) {
+    model.spring = "power";
+    model.alpha = law->alpha;
+    model.beta = law->beta;
+  }
+  const auto built =
+      std::make_shared<const Model>(lab::BuildLabModel(model, lab::GraspBody(arguments)));
+  SqueezeExperimentOptions options;
+  options.approach = fraction * 2.0 * kRadius;
+  return RunSqueezeExperiment(built, options);
+}
+
+// Over the rows with approach in [1 %, max_fraction] of the diameter: the extremes of
+// F / F_CalculiX - 1 and the largest |r - r_CalculiX|.
+struct Errors {
+  double force_min = 0.0, force_max = 0.0, radius = 0.0;
+};
+
+Errors Compare(const SqueezeExperimentResult& result, const std::vector<ReferenceRow>& reference,
+               double max_fraction) {
+  Errors errors;
+  for (const SqueezeSample& row : result.profile) {
+    const double fraction = row.approach / (2.0 * kRadius);
+    if (fraction < 0.01 || fraction > max_fraction + 1e-9) continue;
+    const ReferenceRow expected = ReferenceAt(reference, row.approach);
+    const double error = row.force / expected.force - 1.0;
+    errors.force_min = std::min(errors.force_min, error);
+    errors.force_max = std::max(errors.force_max, error);
+    errors.radius = std::max(errors.radius, std::abs(row.contact_radius - expected.radius));
+    std::printf("  %5.1f %%  F %8.3f N  CalculiX %8.3f N  (%+6.1f %%)  r %5.2f mm  (%5.2f mm)\n",
+                100.0 * fraction, row.force, expected.force, 100.0 * error,
+                1e3 * row.contact_radius, 1e3 * expected.radius);
+  }
+  return errors;
+}
+
+// F / F_CalculiX - 1 at the first row at or past this fraction of the diameter.
+double ErrorAt(const SqueezeExperimentResult& result, const std::vector<ReferenceRow>& reference,
+               double fraction) {
+  for (const SqueezeSample& row : result.profile) {
+    if (row.approach < fraction * 2.0 * kRadius) continue;
+    return row.force / ReferenceAt(reference, row.approach).force - 1.0;
+  }
+  return 0.0;
+}
+
+struct Case {
+  double poisson;
+  std::string name;
+};
+const Case kCases[] = {{0.49, "049"}, {0.45, "045"}};
+
+// The stored reference against theory: Hertz for two contacts in series,
+// F = 4/3 E / (1 - nu^2) sqrt(R) (delta / 2)^(3/2), lies a few percent below a finite sphere's
+// force at 1 % approach, and further below as the patch grows (issue 61).
+TEST(SqueezeCalculix, ReferenceSitsAboveHertzByAGapThatGrows) {
+  for (const Case& c : kCases) {
+    SCOPED_TRACE("nu " + c.name);
+    const auto reference = ReadReference("calculix_squeeze_nu" + c.name + ".csv");
+    const auto gap = [&](double fraction) {
+      const double approach = fraction * 2.0 * kRadius;
+      return 1.0 - HertzForce(kYoungs, c.poisson, kRadius, 0.5 * approach) /
+                       ReferenceAt(reference, approach).force;
+    };
+    EXPECT_GT(gap(0.01), 0.02);
+    EXPECT_LT(gap(0.01), 0.06);
+    EXPECT_GT(gap(0.10), gap(0.01) + 0.05);
+    EXPECT_GT(gap(0.30), gap(0.10) + 0.10);
+  }
+}
+
+// Linear springs, 3 mm, to 30 %. What holds (docs/design/squeeze-vs-fem.md): the patch radius
+// within one spacing, the force within +80 % / -35 %, its excess at small approach (the
+// collision spheres' flattened envelope at the pole) fading as the patch grows. The issue's 5 %
+// up to 10 % is not met.
+TEST(SqueezeCalculix, LinearSpringsAt3mm) {
+  for (const Case& c : kCases) {
+    SCOPED_TRACE("nu " + c.name);
+    const auto reference = ReadReference("calculix_squeeze_nu" + c.name + ".csv");
+    const SqueezeExperimentResult result = SqueezeSphere(kYoungs, c.poisson, nullptr, 0.30);
+    ASSERT_EQ(result.folded_corners, 0);
+    ASSERT_GT(result.profile.size(), 25u);
+    const Errors errors = Compare(result, reference, 0.30);
+    EXPECT_LT(errors.radius, kSpacing);
+    EXPECT_LT(errors.force_max, 0.80);
+    EXPECT_GT(errors.force_min, -0.35);
+    EXPECT_LT(ErrorAt(result, reference, 0.10), ErrorAt(result, reference, 0.02) - 0.15);
+  }
+}
+
+// The power law fitted to the neo-Hookean uniaxial curve, 3 mm, to 9 %: beyond about 10 % the
+// explicit run diverges (docs/design/squeeze-vs-fem.md). The force within the linear springs'
+// bounds; the patch radius within 1.1 spacings (1.02 at nu 0.45: the issue's one is missed).
+TEST(SqueezeCalculix, FittedPowerLawAt3mmTo9Percent) {
+  for (const Case& c : kCases) {
+    SCOPED_TRACE("nu " + c.name);
+    const TensileFitResult fit =
+        FitNeoHookean(c.poisson, "neo_hookean_259kpa_nu" + c.name + "_tensile.csv");
+    const auto reference = ReadReference("calculix_squeeze_nu" + c.name + ".csv");
+    const SqueezeExperimentResult result = SqueezeSphere(fit.youngs, c.poisson, &fit.law, 0.09);
+    ASSERT_EQ(result.folded_corners, 0);
+    const Errors errors = Compare(result, reference, 0.09);
+    EXPECT_LT(errors.radius, 1.1 * kSpacing);
+    EXPECT_LT(errors.force_max, 0.80);
+    EXPECT_GT(errors.force_min, -0.35);
+  }
+}
+
+}  // namespace
+}  // namespace msm_sim::core
