@@ -11,10 +11,9 @@ increments. The plate's nodes are all displaced as one (a rigid plate: its eleme
 the master surface); node-to-surface penalty contact without friction.
 
 Writes CSV rows approach_m,force_N,contact_radius_m: the total approach of both plates, the
-force on one plate (minus the deck's vertical reaction times 180: CalculiX expands axisymmetric elements over a
-2 degree segment and reports forces for that segment) and the radius of the contact patch (the
-largest deformed radius of a surface node not below the plate by more than the penalty's
-overclosure scale). Usage:
+force on one plate (minus the deck's vertical reaction times 180: CalculiX expands axisymmetric
+elements over a 2 degree segment and reports forces for that segment) and the radius of the
+contact patch (the largest deformed radius of a surface node less than 1e-5 R below the plate). Usage:
 
   calculix_squeeze.py --poisson 0.49 --elements 16 --out curve.csv [--ccx ccx]
 
