@@ -74,7 +74,6 @@ class Squeeze {
     BodyOptions body_options;
     body_options.damping_beta = options.damping_beta;
     body_options.friction = options.friction;
-    body_options.dispersion = options.dispersion;
     body_options.orientation_threshold = options.orientation_threshold;
     body_ = world_.AddBody("object", model, body_options);
     const Eigen::Matrix3Xd& x = model->rest_positions();

@@ -24,7 +24,6 @@ core::SqueezeExperimentOptions SqueezeOptions(const LabArguments& arguments) {
   options.samples = squeeze.samples;
   options.integrator = IntegratorNamed(squeeze.integrator);
   options.time_step_safety = squeeze.time_step_safety;
-  options.dispersion = DispersionNamed(arguments.model.dispersion);
   return options;
 }
 

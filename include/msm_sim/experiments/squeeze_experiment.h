@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "msm_sim/dynamics/integrator.h"
-#include "msm_sim/mechanics/dispersion_passes.h"
 #include "msm_sim/model/model.h"
 
 namespace msm_sim::core {
@@ -30,7 +29,6 @@ struct SqueezeExperimentOptions {
   double damping_beta = 1e-4;  ///< s, finite, >= 0: spring dampers c = beta k
   double start_gap = 2e-4;     ///< m, finite, >= 0
   int samples = 30;            ///< rows of the profile, >= 1
-  DispersionPasses dispersion = DispersionPasses::kTwoPass;
   /// BodyOptions::orientation_threshold, 0 (off) or in (0, 1) (docs/physics.md §4, "Orientation
   /// barrier"). Whatever it is, a lattice corner turned inside out (J <= 0) stops the run. 0.5,
   /// not the grasp's 0.2: a 5 cm sphere on a 3 mm lattice squeezed to 30 % of its diameter folds
