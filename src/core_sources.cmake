@@ -74,6 +74,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/dynamics/contact_wrench_average.cpp
   ${MSM_SIM_DIR}/src/dynamics/collider_contacts.cpp
   ${MSM_SIM_DIR}/src/dynamics/collider_entries.cpp
+  ${MSM_SIM_DIR}/src/dynamics/body_entries.cpp
   ${MSM_SIM_DIR}/src/dynamics/explicit_integrator.cpp
   ${MSM_SIM_DIR}/src/dynamics/implicit_contact_holds.cpp
   ${MSM_SIM_DIR}/src/dynamics/implicit_integrator.cpp

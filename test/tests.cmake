@@ -54,6 +54,7 @@ if(CATKIN_ENABLE_TESTING)
     test/dynamics/test_collider_contacts.cpp
     test/dynamics/test_pair_contacts.cpp
     test/dynamics/test_collider_entries.cpp
+    test/dynamics/test_body_entries.cpp
     test/dynamics/test_integrator_stages.cpp
     test/experiments/test_held_indentation.cpp
     test/model/test_model_file.cpp test/model/test_vtk_export.cpp

@@ -22,9 +22,32 @@ constexpr double kPairFrictionlessOverlap = 0.1;
 // Resting and slowly pressed contacts move far less than that in many steps.
 constexpr double kCandidateSkin = 0.5;
 
-// The mean unit vector from a node to its spring neighbours at their current positions: into
-// its body at a border node, whose star is one-sided.
-Eigen::Vector3d Star(const Body& body, NodeIndex node) {
+// Where the pair contacts see a node: at its position moved by its body's entry offset
+// (BodyEntries, docs/physics.md §7.2; zero unless the body is being pressed back in).
+Eigen::Vector3d Seen(const Body& body, NodeIndex node) {
+  return body.state.positions.col(node) + body.contact_offset;
+}
+
+// A deep pair whose nodes have passed each other (each centre behind the other's surface, on
+// the inner side of its star) is turned to face the way out of both bodies, as a collider's
+// surface normal does for a node inside it: its centre-to-centre normal would push the two
+// layers further into each other. Its overlap is then counted along that normal.
+void FaceTheWayOut(PairContact* pair) {
+  const Eigen::Vector3d xi = Seen(*pair->body_i, pair->i);
+  const Eigen::Vector3d xj = Seen(*pair->body_j, pair->j);
+  const Eigen::Vector3d star_i = NodeStar(*pair->body_i, pair->i);
+  const Eigen::Vector3d star_j = NodeStar(*pair->body_j, pair->j);
+  if (!((xj - xi).dot(star_i) > 0.0 && (xi - xj).dot(star_j) > 0.0)) return;
+  const Eigen::Vector3d out = star_i - star_j;  // i leaves j's body, j leaves i's
+  const double norm = out.norm();
+  if (!(norm > 0.0)) return;
+  pair->normal = out / norm;
+  pair->overlap = pair->reach - (xi - xj).dot(pair->normal);
+}
+
+}  // namespace
+
+Eigen::Vector3d NodeStar(const Body& body, NodeIndex node) {
   const Model& model = *body.model;
   const Eigen::Matrix3Xd& x = body.state.positions;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -39,25 +62,6 @@ Eigen::Vector3d Star(const Body& body, NodeIndex node) {
   }
   return sum;
 }
-
-// A deep pair whose nodes have passed each other (each centre behind the other's surface, on
-// the inner side of its star) is turned to face the way out of both bodies, as a collider's
-// surface normal does for a node inside it: its centre-to-centre normal would push the two
-// layers further into each other. Its overlap is then counted along that normal.
-void FaceTheWayOut(PairContact* pair) {
-  const Eigen::Vector3d xi = pair->body_i->state.positions.col(pair->i);
-  const Eigen::Vector3d xj = pair->body_j->state.positions.col(pair->j);
-  const Eigen::Vector3d star_i = Star(*pair->body_i, pair->i);
-  const Eigen::Vector3d star_j = Star(*pair->body_j, pair->j);
-  if (!((xj - xi).dot(star_i) > 0.0 && (xi - xj).dot(star_j) > 0.0)) return;
-  const Eigen::Vector3d out = star_i - star_j;  // i leaves j's body, j leaves i's
-  const double norm = out.norm();
-  if (!(norm > 0.0)) return;
-  pair->normal = out / norm;
-  pair->overlap = pair->reach - (xi - xj).dot(pair->normal);
-}
-
-}  // namespace
 
 void PairContacts::CollideNodes(int* microcollisions) {
   // Contacts first, then Gauss-Seidel sweeps over all of them: a node resting on several nodes
@@ -86,7 +90,7 @@ bool PairContacts::MayHaveTouchingPairs() const {
     Eigen::AlignedBox3d box;
     double reach = 0.0;
     for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
-      box.extend(Eigen::Vector3d(body.state.positions.col(body.border.nodes[k])));
+      box.extend(Seen(body, body.border.nodes[k]));
       reach = std::max(reach, body.border.radii[k]);
     }
     if (box.isEmpty()) continue;
@@ -111,10 +115,9 @@ std::vector<PairContact> PairContacts::FindTouchingPairs() {
     Body& body_i = world_.bodies[candidate.body_i];
     Body& body_j = world_.bodies[candidate.body_j];
     const std::size_t before = pairs.size();
-    AddPairIfTouching(
-        &body_i, candidate.i, &body_j, candidate.j,
-        body_i.state.positions.col(candidate.i) - body_j.state.positions.col(candidate.j),
-        candidate.reach, &pairs);
+    AddPairIfTouching(&body_i, candidate.i, &body_j, candidate.j,
+                      Seen(body_i, candidate.i) - Seen(body_j, candidate.j), candidate.reach,
+                      &pairs);
     if (pairs.size() > before &&
         pairs.back().overlap > kPairFrictionlessOverlap * candidate.reach) {
       FaceTheWayOut(&pairs.back());
@@ -137,8 +140,7 @@ bool PairContacts::CandidatesHold() const {
     }
     for (std::size_t k = 0; k < nodes.size(); ++k) {
       const Eigen::Index column = static_cast<Eigen::Index>(k);
-      if ((body.state.positions.col(nodes[k]) - found_at_[b].col(column)).squaredNorm() >
-          limit_sq) {
+      if ((Seen(body, nodes[k]) - found_at_[b].col(column)).squaredNorm() > limit_sq) {
         return false;
       }
     }
@@ -156,8 +158,7 @@ void PairContacts::FindCandidates() {
     found_models_.push_back(body.model.get());
     found_at_[b].resize(3, static_cast<Eigen::Index>(body.border.nodes.size()));
     for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
-      found_at_[b].col(static_cast<Eigen::Index>(k)) =
-          body.state.positions.col(body.border.nodes[k]);
+      found_at_[b].col(static_cast<Eigen::Index>(k)) = Seen(body, body.border.nodes[k]);
       max_radius = std::max(max_radius, body.border.radii[k]);
     }
   }
@@ -167,14 +168,13 @@ void PairContacts::FindCandidates() {
   const double search = 2.0 * max_radius + skin_;
   SpatialHashGrid grid(search);
   for (std::size_t e = 0; e < entries.size(); ++e) {
-    grid.Insert(static_cast<int>(e),
-                world_.bodies[entries[e].body].state.positions.col(entries[e].node));
+    grid.Insert(static_cast<int>(e), Seen(world_.bodies[entries[e].body], entries[e].node));
   }
   std::vector<std::pair<int, int>> found;
   for (std::size_t e = 0; e < entries.size(); ++e) {
     const BorderEntry& first = entries[e];
     const Body& body_i = world_.bodies[first.body];
-    const Eigen::Vector3d xi = body_i.state.positions.col(first.node);
+    const Eigen::Vector3d xi = Seen(body_i, first.node);
     grid.ForEachWithin(xi, search, [&](int other, const Eigen::Vector3d& xj) {
       if (other <= static_cast<int>(e)) return;  // each pair once
       const BorderEntry& second = entries[other];
@@ -195,7 +195,7 @@ std::vector<PairContacts::BorderEntry> PairContacts::NodesNearOtherBodies(double
   std::vector<Eigen::AlignedBox3d> boxes(world_.bodies.size());
   for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
     const Body& body = world_.bodies[b];
-    for (const NodeIndex node : body.border.nodes) boxes[b].extend(body.state.positions.col(node));
+    for (const NodeIndex node : body.border.nodes) boxes[b].extend(Seen(body, node));
     if (!boxes[b].isEmpty()) {
       boxes[b].min().array() -= margin;
       boxes[b].max().array() += margin;
@@ -205,7 +205,7 @@ std::vector<PairContacts::BorderEntry> PairContacts::NodesNearOtherBodies(double
   for (std::size_t b = 0; b < world_.bodies.size(); ++b) {
     const Body& body = world_.bodies[b];
     for (std::size_t k = 0; k < body.border.nodes.size(); ++k) {
-      const Eigen::Vector3d x = body.state.positions.col(body.border.nodes[k]);
+      const Eigen::Vector3d x = Seen(body, body.border.nodes[k]);
       bool near = body.options.self_collision;
       for (std::size_t other = 0; other < boxes.size() && !near; ++other) {
         near = other != b && boxes[other].contains(x);
@@ -231,7 +231,17 @@ void PairContacts::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, No
                                      const Eigen::Vector3d& d, double reach,
                                      std::vector<PairContact>* pairs) {
   const double distance = d.norm();
-  if (distance >= reach || distance == 0.0) return;
+  if (distance >= reach) return;
+  Eigen::Vector3d normal;
+  if (distance > 0.0) {
+    normal = d / distance;
+  } else {
+    // Coincident centres have no line between them: the way out of both bodies, as for a pair
+    // that passed (FaceTheWayOut); none if the stars cancel (BodyEntries resolves those).
+    normal = NodeStar(*body_i, i) - NodeStar(*body_j, j);
+    if (!(normal.norm() > 0.0)) return;
+    normal.normalize();
+  }
   // A constrained node acts as an infinite mass.
   const double inv_i = body_i->constrained[i] ? 0.0 : 1.0 / body_i->model->masses()[i];
   const double inv_j = body_j->constrained[j] ? 0.0 : 1.0 / body_j->model->masses()[j];
@@ -242,7 +252,7 @@ void PairContacts::AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, No
   const double friction = overlap > kPairFrictionlessOverlap * reach
                               ? 0.0
                               : std::sqrt(body_i->options.friction * body_j->options.friction);
-  pairs->push_back({body_i, i, body_j, j, d / distance, inv_i, inv_j, 1.0 / (inv_i + inv_j),
+  pairs->push_back({body_i, i, body_j, j, normal, inv_i, inv_j, 1.0 / (inv_i + inv_j),
                     std::min(body_i->options.restitution, body_j->options.restitution), friction,
                     overlap, reach});
 }
@@ -253,7 +263,10 @@ void PairContacts::StopPairApproaches(std::vector<PairContact>* pairs) const {
     for (PairContact& pair : *pairs) {
       auto vi = pair.body_i->state.velocities.col(pair.i);
       auto vj = pair.body_j->state.velocities.col(pair.j);
-      const double vn = (vi - vj).dot(pair.normal);
+      // The entry's press moves the nodes where the contacts see them (BodyEntries).
+      const double vn =
+          (vi - vj + pair.body_i->contact_offset_velocity - pair.body_j->contact_offset_velocity)
+              .dot(pair.normal);
       if (vn >= 0.0) continue;
       const double impulse = -vn * pair.reduced_mass;
       vi += impulse * pair.inverse_mass_i * pair.normal;
@@ -269,7 +282,8 @@ void PairContacts::RespondToPairContact(const PairContact& pair) {
   auto vi = pair.body_i->state.velocities.col(pair.i);
   auto vj = pair.body_j->state.velocities.col(pair.j);
   // Friction up to mu times the pair's normal impulse, never reversing the sliding.
-  const Eigen::Vector3d relative = vi - vj;
+  const Eigen::Vector3d relative =
+      vi - vj + pair.body_i->contact_offset_velocity - pair.body_j->contact_offset_velocity;
   const Eigen::Vector3d sliding = relative - relative.dot(pair.normal) * pair.normal;
   const double slide_speed = sliding.norm();
   if (slide_speed > 0.0) {
@@ -300,7 +314,9 @@ void PairContacts::RecoverFromPairs(const std::vector<PairContact>& pairs) {
         RecoverySpeed(world_.options, pair.overlap - kPairRecoverySlop * pair.reach);
     const auto vi = pair.body_i->state.velocities.col(pair.i);
     const auto vj = pair.body_j->state.velocities.col(pair.j);
-    const double separating = (vi - vj).dot(pair.normal);
+    const double separating =
+        (vi - vj + pair.body_i->contact_offset_velocity - pair.body_j->contact_offset_velocity)
+            .dot(pair.normal);
     if (!(target > separating)) continue;
     const double per_inverse_mass =
         (target - separating) * world_.substep / (pair.inverse_mass_i + pair.inverse_mass_j);

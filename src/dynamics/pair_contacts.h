@@ -11,13 +11,17 @@
 
 namespace msm_sim::core::internal {
 
+/// The mean unit vector from a node to its spring neighbours at their current positions: into
+/// its body at a border node, whose star is one-sided.
+Eigen::Vector3d NodeStar(const Body& body, NodeIndex node);
+
 /// A contact between two border nodes during a substep.
 struct PairContact {
   Body* body_i;
   NodeIndex i;
   Body* body_j;
   NodeIndex j;
-  Eigen::Vector3d normal;  // from j to i
+  Eigen::Vector3d normal;  // from j to i (the way out of both bodies if they coincide)
   double inverse_mass_i, inverse_mass_j, reduced_mass, restitution, friction;
   double overlap;        // reach - distance (m, > 0)
   double reach;          // sum of the collision radii (m)
@@ -43,7 +47,8 @@ class PairContacts {
  private:
   /// Whether nodes i and j of one body may touch: only if it folds (see self_collision).
   static bool MayTouchItself(const Body& body, NodeIndex i, NodeIndex j);
-  /// Adds the pair if |d| = |x_i - x_j| (m) is below reach (m) and one of them may move.
+  /// Adds the pair if |d| = |x_i - x_j| (m, where the contacts see them) is below reach (m) and
+  /// one of them may move.
   static void AddPairIfTouching(Body* body_i, NodeIndex i, Body* body_j, NodeIndex j,
                                 const Eigen::Vector3d& d, double reach,
                                 std::vector<PairContact>* pairs);

@@ -50,8 +50,10 @@ StepReport StepLoop::Step(double dt) {
     report.substep_refinement = world_.substep_refinement;
     ClearStepRecords();
     const std::vector<Eigen::Isometry3d> poses = entries_.Begin(dt, start.collider_poses);
+    body_entries_.Begin(dt);
     problem = RunSubsteps(report.substeps, report.substep, poses);
     entries_.End(problem.empty());
+    body_entries_.End(problem.empty());
     if (problem.empty() || !MayRefineSubsteps()) break;
     // The stable step holds for small motions about the rest shape; a lattice that buckles and
     // snaps under a deep press outruns it (docs/physics.md §7, "Deep presses"). From the step's
@@ -178,6 +180,7 @@ void StepLoop::ResolveContacts(double h, const std::vector<Eigen::Isometry3d>& s
   // Contacts at mid-substep positions, colliders at their mid-substep poses.
   PlaceCollidersAtMidSubstep(h, start_poses, step_time);
   for (Body& body : world_.bodies) contacts_.CollideWithColliders(&body, &world_.microcollisions);
+  body_entries_.Place(step_time + 0.5 * h);  // the pairs see entering bodies where they enter
   pairs_.CollideNodes(&world_.microcollisions);
 }
 

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "dynamics/body_entries.h"
 #include "dynamics/collider_contacts.h"
 #include "dynamics/collider_entries.h"
 #include "dynamics/explicit_integrator.h"
@@ -32,6 +33,7 @@ class StepLoop {
         contacts_(world),
         pairs_(world),
         entries_(world),
+        body_entries_(world),
         explicit_(world, &contacts_),
         implicit_(world, &contacts_) {}
   StepLoop(const StepLoop&) = delete;
@@ -92,6 +94,7 @@ class StepLoop {
   ColliderContacts contacts_;
   PairContacts pairs_;
   ColliderEntries entries_;
+  BodyEntries body_entries_;
   ExplicitIntegrator explicit_;
   ImplicitIntegrator implicit_;
 };

@@ -141,7 +141,12 @@ struct Body {
   std::vector<ContactWrench> wrenches;       // colliders, then groups (of the last Step)
   std::vector<ContactPoint> contact_points;  // of the last Step, if recorded
   std::vector<char> near_collider;           // per border node, this substep: within reach of one
-  std::vector<ShareRecords> share_records;   // the contact stage's shares after the first
+  // While BodyEntries presses the body back into one it was found inside (docs/physics.md
+  // §7.2): its pair contacts see its nodes moved by contact_offset (m), which moves at
+  // contact_offset_velocity (m/s); both zero otherwise and outside a Step's substeps.
+  Eigen::Vector3d contact_offset = Eigen::Vector3d::Zero();
+  Eigen::Vector3d contact_offset_velocity = Eigen::Vector3d::Zero();
+  std::vector<ShareRecords> share_records;  // the contact stage's shares after the first
 };
 
 /// The group's frame at time t (s): its pose function's, or the pose it was added with.
