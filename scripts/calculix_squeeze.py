@@ -74,6 +74,31 @@ def quarter_disk(radius, n):
     return nodes, elements
 
 
+def write_analysis(deck, args, mu, bulk):
+    """The materials, the frictionless contact, the supports and the displacement-controlled
+    step of the deck; returns the plate's drop (m, half the total approach)."""
+    radius, n = args.radius, args.elements
+    deck.write("*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n%.12g, %.12g\n"
+               % (mu / 2.0, 2.0 / bulk))
+    deck.write("*MATERIAL, NAME=STEEL\n*ELASTIC\n%.12g, 0.3\n" % (1e4 * args.youngs))
+    deck.write("*SOLID SECTION, ELSET=SPHERE, MATERIAL=RUBBER\n")
+    deck.write("*SOLID SECTION, ELSET=PLATE, MATERIAL=STEEL\n")
+    # Penalty slope (pressure per overclosure): at a contact pressure of order E the
+    # overclosure is a thousandth of an element, far below the approach of a row.
+    element = radius / (2.0 * n)
+    deck.write("*CONTACT PAIR, INTERACTION=SI, TYPE=NODE TO SURFACE\nSSLAVE, SMASTER\n")
+    deck.write("*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE="
+               "LINEAR\n%.12g, %.12g\n" % (1e3 * args.youngs / element, 1e-3 * args.youngs))
+    deck.write("*BOUNDARY\nNEQUATOR, 2, 2\nNAXIS, 1, 1\nNPLATE, 1, 1\n")
+    drop = 0.5 * args.approach_fraction * 2.0 * radius
+    deck.write("*STEP, NLGEOM, INC=10000\n*STATIC, DIRECT\n%.6g, 1.0\n"
+               % (1.0 / args.increments))
+    deck.write("*BOUNDARY\nNPLATE, 2, 2, %.12g\n" % -drop)
+    deck.write("*NODE PRINT, NSET=NPLATE, TOTALS=ONLY\nRF\n")
+    deck.write("*NODE PRINT, NSET=NSURF\nU\n*END STEP\n")
+    return drop
+
+
 def write_deck(path, args):
     radius, n = args.radius, args.elements
     mu = args.youngs / (2.0 * (1.0 + args.poisson))
@@ -119,24 +144,7 @@ def write_deck(path, args):
             str(first + e) for e in range(plate_n)))
         deck.write("*SURFACE, NAME=SSLAVE, TYPE=NODE\nNSURF\n")
         deck.write("*SURFACE, NAME=SMASTER\nEPLATE, S1\n")
-        deck.write("*MATERIAL, NAME=RUBBER\n*HYPERELASTIC, NEO HOOKE\n%.12g, %.12g\n"
-                   % (mu / 2.0, 2.0 / bulk))
-        deck.write("*MATERIAL, NAME=STEEL\n*ELASTIC\n%.12g, 0.3\n" % (1e4 * args.youngs))
-        deck.write("*SOLID SECTION, ELSET=SPHERE, MATERIAL=RUBBER\n")
-        deck.write("*SOLID SECTION, ELSET=PLATE, MATERIAL=STEEL\n")
-        # Penalty slope (pressure per overclosure): at a contact pressure of order E the
-        # overclosure is a thousandth of an element, far below the approach of a row.
-        element = radius / (2.0 * n)
-        deck.write("*CONTACT PAIR, INTERACTION=SI, TYPE=NODE TO SURFACE\nSSLAVE, SMASTER\n")
-        deck.write("*SURFACE INTERACTION, NAME=SI\n*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE="
-                   "LINEAR\n%.12g, %.12g\n" % (1e3 * args.youngs / element, 1e-3 * args.youngs))
-        deck.write("*BOUNDARY\nNEQUATOR, 2, 2\nNAXIS, 1, 1\nNPLATE, 1, 1\n")
-        drop = 0.5 * args.approach_fraction * 2.0 * radius
-        deck.write("*STEP, NLGEOM, INC=10000\n*STATIC, DIRECT\n%.6g, 1.0\n"
-                   % (1.0 / args.increments))
-        deck.write("*BOUNDARY\nNPLATE, 2, 2, %.12g\n" % -drop)
-        deck.write("*NODE PRINT, NSET=NPLATE, TOTALS=ONLY\nRF\n")
-        deck.write("*NODE PRINT, NSET=NSURF\nU\n*END STEP\n")
+        drop = write_analysis(deck, args, mu, bulk)
     return {number[k]: p for k, p in nodes.items() if number[k] in set(surface)}, drop
 
 
