@@ -56,7 +56,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/single_precision_schedule.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_runs_stiffness.cpp
-  ${MSM_SIM_DIR}/src/mechanics/stiffness_kernels.cpp
+  ${MSM_SIM_DIR}/src/mechanics/linearization_kernels.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
   ${MSM_SIM_DIR}/src/mechanics/momentum_flow.cpp
   ${MSM_SIM_DIR}/src/mechanics/orientation_barrier.cpp

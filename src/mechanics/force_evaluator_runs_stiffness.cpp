@@ -6,8 +6,8 @@
 #include <algorithm>
 
 #include "mechanics/force_kernels.h"
+#include "mechanics/linearization_kernels.h"
 #include "mechanics/share_plan.h"
-#include "mechanics/stiffness_kernels.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {

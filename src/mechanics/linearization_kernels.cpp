@@ -3,7 +3,7 @@
 // expressions as its PlainRuns and OutflowRuns, so that the tensions they linearise are the ones
 // those kernels give, to the bit.
 
-#include "mechanics/stiffness_kernels.h"
+#include "mechanics/linearization_kernels.h"
 
 #include <algorithm>
 
