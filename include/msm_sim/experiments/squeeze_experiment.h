@@ -31,9 +31,9 @@ struct SqueezeExperimentOptions {
   int samples = 30;            ///< rows of the profile, >= 1
   /// BodyOptions::orientation_threshold, 0 (off) or in (0, 1) (docs/physics.md §4, "Orientation
   /// barrier"). Whatever it is, a lattice corner turned inside out (J <= 0) stops the run. 0.5,
-  /// not the grasp's 0.2: a 5 cm sphere on a 3 mm lattice squeezed to 30 % of its diameter folds
-  /// corners at 0.2 and not at 0.5, whose force is the same within 1.2 % up to the fold
-  /// (docs/design/squeeze-vs-fem.md).
+  /// not the grasp's 0.2: at 0.2 a squeezed sphere folds corners before 30 % of its diameter, at
+  /// 0.5 it does not, and the force up to the fold is the same (docs/lab.md "squeeze",
+  /// docs/design/squeeze-vs-fem.md).
   double orientation_threshold = 0.5;
   Integrator integrator = Integrator::kExplicit;
   /// In (0, 1]: WorldOptions::time_step_safety. The explicit step's bound on a power-law
