@@ -160,7 +160,7 @@ class Validation:
             sphere = ("squeeze", "--shape", "sphere", "--radius", 0.025, "--spacing", 0.003,
                       "--poisson", poisson, "--density", 1100)
             linear = self.run(*sphere, "--youngs", 259e3, "--approach", 0.015)["profile"]
-            # The fitted law diverges past about 10 % (docs/design/squeeze-vs-fem.md).
+            # The fitted law only as far as it stays finite (docs/design/squeeze-vs-fem.md).
             power = self.run(*sphere, "--youngs", fit["youngs"], "--spring", "power",
                              "--alpha", fit["alpha"], "--beta", fit["beta"],
                              "--approach", 0.0045)["profile"]
