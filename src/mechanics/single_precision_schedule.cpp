@@ -3,63 +3,69 @@
 // a nodes (docs/physics.md §9).
 
 #include <algorithm>
-#include <cstdlib>
-#include <numeric>
 #include <vector>
 
 #include "mechanics/single_precision_kernels.h"
+#include "mechanics/spring_schedule.h"
 
 namespace msm_sim::core {
 
+namespace {
+
+void AddSlot(float k, float rest, float outflow_a, float outflow_b, SinglePrecisionSprings* out) {
+  out->stiffness.push_back(k);
+  out->rest.push_back(rest);
+  out->outflow_a.push_back(outflow_a);
+  out->outflow_b.push_back(outflow_b);
+}
+
+void AddPhantoms(int count, SinglePrecisionSprings* out) {
+  for (int g = 0; g < count; ++g) AddSlot(0.0f, 0.0f, 0.0f, 0.0f, out);
+  out->num_phantoms += count;
+}
+
+// Appends model spring s joining nodes a < a + offset (its end weights swapped with its ends
+// where `swapped`) to the last run, bridging a short gap by phantoms, or starts a run with it.
+void AddSpring(const Model& model, SpringIndex s, bool swapped, int a, int offset,
+               SinglePrecisionSprings* out) {
+  constexpr int kAlignment = SinglePrecisionSprings::kAlignment;
+  SingleRun* run = out->runs.empty() ? nullptr : &out->runs.back();
+  const int gap = run != nullptr ? a - (run->a0 + run->count) : -1;
+  if (run != nullptr && run->offset == offset && gap >= 0 &&
+      gap <= SinglePrecisionSprings::kMaxGap &&
+      run->count + gap < SinglePrecisionSprings::kMaxRunLength) {
+    AddPhantoms(gap, out);
+    run->count += gap + 1;
+  } else {
+    // A run starts at a node and a slot that are multiples of kAlignment: phantoms from the
+    // aligned node on, and unused zero slots before them.
+    const int a0 = a - a % kAlignment;
+    AddPhantoms((kAlignment - out->num_slots() % kAlignment) % kAlignment + (a - a0), out);
+    out->runs.push_back({out->num_slots() - (a - a0), a0, offset, a - a0 + 1});
+  }
+  out->max_offset = std::max(out->max_offset, offset);
+  const double k = model.spring_stiffness()[s];
+  const double rest = model.spring_rest_length()[s];
+  const double outflow_a = model.dispersion_weight_a()[s] * rest * k;
+  const double outflow_b = model.dispersion_weight_b()[s] * rest * k;
+  AddSlot(static_cast<float>(k), static_cast<float>(rest),
+          static_cast<float>(swapped ? outflow_b : outflow_a),
+          static_cast<float>(swapped ? outflow_a : outflow_b), out);
+}
+
+}  // namespace
+
 std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(const Model& model) {
-  const int count = model.num_springs();
-  const auto& node_a = model.spring_node_a();
-  const auto& node_b = model.spring_node_b();
-  // Each spring oriented a < b (its end weights swapped with it), sorted by offset, then a.
-  std::vector<SpringIndex> order(count);
-  std::iota(order.begin(), order.end(), 0);
-  const auto low = [&](SpringIndex s) { return std::min(node_a[s], node_b[s]); };
-  const auto offset = [&](SpringIndex s) { return std::abs(node_b[s] - node_a[s]); };
-  std::stable_sort(order.begin(), order.end(), [&](SpringIndex i, SpringIndex j) {
-    return offset(i) != offset(j) ? offset(i) < offset(j) : low(i) < low(j);
-  });
+  // The double schedule's order (each spring oriented a < b, sorted by offset, then a), its
+  // runs extended across short gaps by phantoms.
+  const SpringSchedule sorted = ScheduleSprings(model);
   auto springs = std::make_shared<SinglePrecisionSprings>();
   SinglePrecisionSprings& out = *springs;
-  const auto add_slot = [&](float k, float rest, float outflow_a, float outflow_b) {
-    out.stiffness.push_back(k);
-    out.rest.push_back(rest);
-    out.outflow_a.push_back(outflow_a);
-    out.outflow_b.push_back(outflow_b);
-  };
-  for (int p = 0; p < count; ++p) {
-    const SpringIndex s = order[p];
-    const int a = low(s);
-    SingleRun* run = out.runs.empty() ? nullptr : &out.runs.back();
-    const int gap = run != nullptr ? a - (run->a0 + run->count) : -1;
-    const bool extend = run != nullptr && run->offset == offset(s) && gap >= 0 && gap <= kMaxGap &&
-                        run->count + gap < kMaxRunLength;
-    if (extend) {
-      for (int g = 0; g < gap; ++g) add_slot(0.0f, 0.0f, 0.0f, 0.0f);
-      out.num_phantoms += gap;
-      run->count += gap + 1;
-    } else {
-      // A run starts at a node and a slot that are multiples of kAlignment: phantoms from the
-      // aligned node on, and unused zero slots before them.
-      const int a0 = a - a % kAlignment;
-      const int unused = (kAlignment - out.num_slots() % kAlignment) % kAlignment;
-      for (int g = 0; g < unused + (a - a0); ++g) add_slot(0.0f, 0.0f, 0.0f, 0.0f);
-      out.num_phantoms += unused + (a - a0);
-      out.runs.push_back({out.num_slots() - (a - a0), a0, offset(s), a - a0 + 1});
+  for (const SpringRun& row : sorted.runs) {
+    for (int i = 0; i < row.count; ++i) {
+      AddSpring(model, sorted.model_index[row.first + i], sorted.swapped[row.first + i], row.a0 + i,
+                row.offset, &out);
     }
-    out.max_offset = std::max(out.max_offset, offset(s));
-    const bool swapped = node_a[s] > node_b[s];
-    const double k = model.spring_stiffness()[s];
-    const double rest = model.spring_rest_length()[s];
-    const double outflow_a = model.dispersion_weight_a()[s] * rest * k;
-    const double outflow_b = model.dispersion_weight_b()[s] * rest * k;
-    add_slot(static_cast<float>(k), static_cast<float>(rest),
-             static_cast<float>(swapped ? outflow_b : outflow_a),
-             static_cast<float>(swapped ? outflow_a : outflow_b));
   }
   out.num_nodes = model.num_nodes();
   out.blocks = ScheduleBlocks(out);
