@@ -14,7 +14,7 @@
 #include "dynamics/step_loop.h"
 #include "dynamics/world_state.h"
 #include "experiments/indenter.h"
-#include "mechanics/masked_pcg.h"
+#include "mechanics/node_array_krylov.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
 
 namespace msm_sim::core::bench {

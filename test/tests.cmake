@@ -24,7 +24,7 @@ if(CATKIN_ENABLE_TESTING)
     test/mechanics/test_static_solver.cpp
     test/mechanics/test_uniaxial_compression.cpp
     test/mechanics/test_lattice_uniaxial_tension.cpp
-    test/mechanics/test_masked_pcg.cpp
+    test/mechanics/test_node_array_krylov.cpp
     test/mechanics/test_spring_schedule.cpp
     test/mechanics/test_worker_pool.cpp
     test/mechanics/test_stable_time_step.cpp

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "dynamics/implicit_integrator.h"
-#include "mechanics/masked_pcg.h"
+#include "mechanics/node_array_krylov.h"
 
 namespace msm_sim::core::internal {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "dynamics/node_stages.h"
 #include "dynamics/world_internal.h"
-#include "mechanics/masked_pcg.h"
+#include "mechanics/node_array_krylov.h"
 
 namespace msm_sim::core::internal {
 namespace {

@@ -9,7 +9,7 @@
 
 #include "dynamics/collider_contacts.h"
 #include "dynamics/world_state.h"
-#include "mechanics/masked_pcg.h"
+#include "mechanics/node_array_krylov.h"
 
 namespace msm_sim::core {
 

@@ -1,4 +1,4 @@
-#include "mechanics/masked_pcg.h"
+#include "mechanics/node_array_krylov.h"
 
 #include <algorithm>
 #include <cmath>

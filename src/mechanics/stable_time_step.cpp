@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <Eigen/Eigenvalues>
 
+#include "mechanics/node_array_krylov.h"
 #include "msm_sim/mechanics/force_evaluator.h"
 
 namespace msm_sim::core {
@@ -42,14 +43,11 @@ Eigen::Array<double, 1, Eigen::Dynamic> FreeMask(const Model& model,
   return free;
 }
 
-// y = A x for a symmetric 3 x N operator.
-using Operator = std::function<void(const Eigen::Matrix3Xd&, Eigen::Matrix3Xd*)>;
-
 // M^-1/2 B M^-1/2 applied matrix-free for an operator B (K or the dampers' matrix), restricted
 // to the free nodes (`free` is 1 for those, 0 for fixed ones: rows and columns dropped); the
 // eigenvalues of M^-1/2 K M^-1/2 are the squared angular frequencies.
-Operator MassScaled(Operator b, const Eigen::VectorXd& masses,
-                    const Eigen::Array<double, 1, Eigen::Dynamic>& free) {
+NodeArrayOperator MassScaled(NodeArrayOperator b, const Eigen::VectorXd& masses,
+                             const Eigen::Array<double, 1, Eigen::Dynamic>& free) {
   const Eigen::Array<double, 1, Eigen::Dynamic> inverse_sqrt_mass =
       masses.transpose().array().rsqrt() * free;
   return [b = std::move(b), inverse_sqrt_mass](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
@@ -62,7 +60,7 @@ Operator MassScaled(Operator b, const Eigen::VectorXd& masses,
 // The dampers' matrix C / beta = sum k (e_b - e_a)(e_b - e_a)^T (x) u u^T at rest: a damper
 // carries beta k (v_b - v_a).u on the spring's own k, not on the eMSM dispersion or Baudet's
 // correction, so at nu > 1/4 C is much softer than K.
-Operator DamperMatrix(const Model& model) {
+NodeArrayOperator DamperMatrix(const Model& model) {
   const int count = model.num_springs();
   Eigen::Matrix3Xd directions(3, count);
   for (int s = 0; s < count; ++s) {
@@ -130,7 +128,8 @@ double LargestRitzValue(const std::vector<Eigen::Matrix3Xd>& basis,
 // the largest eigenvalue of Q^T A Q converges to lambda_max in a few dozen products even where
 // the top of the spectrum is clustered (a lattice's is, where power iteration falls short;
 // docs/physics.md §7 "Stable time step"), and never exceeds it.
-double LargestEigenvalueByRayleighRitz(const Operator& stiffness, const Eigen::Matrix3Xd& start) {
+double LargestEigenvalueByRayleighRitz(const NodeArrayOperator& stiffness,
+                                       const Eigen::Matrix3Xd& start) {
   const int n = static_cast<int>(start.cols());
   const int steps = std::min(60, 3 * n);
   std::vector<Eigen::Matrix3Xd> basis;
@@ -148,7 +147,7 @@ double LargestEigenvalueByRayleighRitz(const Operator& stiffness, const Eigen::M
 
 // Carrier springs with dispersion: K is not symmetric; power iteration, with a margin because
 // it approaches lambda_max from below.
-double LargestEigenvalueByPowerIteration(const Operator& stiffness, Eigen::Matrix3Xd v) {
+double LargestEigenvalueByPowerIteration(const NodeArrayOperator& stiffness, Eigen::Matrix3Xd v) {
   double lambda = 0.0;
   Eigen::Matrix3Xd av(3, v.cols());
   for (int iteration = 0; iteration < 300; ++iteration) {
@@ -201,8 +200,8 @@ double StepForLargestEigenvalues(double lambda, double lambda_damper, double bet
 struct PencilProjection {
   Eigen::MatrixXd k, c;
 };
-PencilProjection ProjectPencil(const Operator& stiffness, double stiffening,
-                               const Operator& dampers, double beta, double h,
+PencilProjection ProjectPencil(const NodeArrayOperator& stiffness, double stiffening,
+                               const NodeArrayOperator& dampers, double beta, double h,
                                const Eigen::Matrix3Xd& start, int steps) {
   const double a = 0.25 * h * h * stiffening, b = 0.5 * h * beta;
   std::vector<Eigen::Matrix3Xd> basis;
@@ -247,8 +246,9 @@ double ProjectedStepRoot(const PencilProjection& projection, double lo, double h
 // pencil's by a few percent. Rayleigh-Ritz on a Krylov basis of the pencil at `lo`: a second
 // basis built at the root moved no step of the realtime block (nu 0.45 and 0.49, 5 and 4 mm) by
 // 10^-5.
-double SharpDampedStep(const Operator& stiffness, double stiffening, const Operator& dampers,
-                       double beta, const Eigen::Matrix3Xd& start, double lo, double hi) {
+double SharpDampedStep(const NodeArrayOperator& stiffness, double stiffening,
+                       const NodeArrayOperator& dampers, double beta, const Eigen::Matrix3Xd& start,
+                       double lo, double hi) {
   const int steps = std::min(60, 3 * static_cast<int>(start.cols()));
   return ProjectedStepRoot(ProjectPencil(stiffness, stiffening, dampers, beta, lo, start, steps),
                            lo, hi);
@@ -266,7 +266,7 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
   }
   ForceEvaluator evaluator(model);
   evaluator.Linearize(model.rest_positions());
-  const Operator stiffness =
+  const NodeArrayOperator stiffness =
       MassScaled([&evaluator](const Eigen::Matrix3Xd& v,
                               Eigen::Matrix3Xd* out) { evaluator.ApplyStiffness(v, out); },
                  model.masses(), free);
@@ -281,7 +281,7 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
       stiffening * (symmetric ? LargestEigenvalueByRayleighRitz(stiffness, start)
                               : LargestEigenvalueByPowerIteration(stiffness, start));
   if (options.damping_beta == 0.0) return options.safety * 2.0 / std::sqrt(lambda);
-  const Operator dampers = MassScaled(DamperMatrix(model), model.masses(), free);
+  const NodeArrayOperator dampers = MassScaled(DamperMatrix(model), model.masses(), free);
   const double lambda_damper = LargestEigenvalueByRayleighRitz(dampers, start);
   const double sufficient = StepForLargestEigenvalues(lambda, lambda_damper, options.damping_beta);
   if (!symmetric) return options.safety * sufficient;

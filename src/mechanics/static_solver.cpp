@@ -5,122 +5,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/IterativeLinearSolvers>
-
+#include "mechanics/node_array_krylov.h"
 #include "msm_sim/mechanics/force_evaluator.h"
-
-namespace msm_sim::core {
-namespace {
-
-// K restricted to the free DOFs, applied matrix-free through ForceEvaluator::ApplyStiffness.
-class FreeStiffnessOperator;
-
-}  // namespace
-}  // namespace msm_sim::core
-
-namespace Eigen::internal {
-template <>
-struct traits<msm_sim::core::FreeStiffnessOperator>
-    : public Eigen::internal::traits<Eigen::SparseMatrix<double>> {};
-}  // namespace Eigen::internal
-
-namespace msm_sim::core {
-namespace {
-
-class FreeStiffnessOperator : public Eigen::EigenBase<FreeStiffnessOperator> {
- public:
-  using Scalar = double;
-  using RealScalar = double;
-  using StorageIndex = int;
-  enum {
-    ColsAtCompileTime = Eigen::Dynamic,
-    MaxColsAtCompileTime = Eigen::Dynamic,
-    IsRowMajor = false
-  };
-
-  FreeStiffnessOperator(const ForceEvaluator& evaluator, const std::vector<int>& free_dofs,
-                        double shift)
-      : evaluator_(evaluator),
-        free_dofs_(free_dofs),
-        shift_(shift),
-        full_(3, evaluator.model().num_nodes()),
-        product_(3, evaluator.model().num_nodes()) {}
-
-  Eigen::Index rows() const { return static_cast<Eigen::Index>(free_dofs_.size()); }
-  Eigen::Index cols() const { return rows(); }
-
-  template <typename Rhs>
-  Eigen::Product<FreeStiffnessOperator, Rhs, Eigen::AliasFreeProduct> operator*(
-      const Eigen::MatrixBase<Rhs>& x) const {
-    return Eigen::Product<FreeStiffnessOperator, Rhs, Eigen::AliasFreeProduct>(*this, x.derived());
-  }
-
-  // y += alpha K x on free DOFs.
-  template <typename Dest, typename Rhs>
-  void ScaleAndAddTo(Dest& y, const Rhs& x, double alpha) const {
-    full_.setZero();
-    for (std::size_t i = 0; i < free_dofs_.size(); ++i) full_.data()[free_dofs_[i]] = x[i];
-    evaluator_.ApplyStiffness(full_, &product_);
-    for (std::size_t i = 0; i < free_dofs_.size(); ++i) {
-      y[i] += alpha * (product_.data()[free_dofs_[i]] + shift_ * x[i]);
-    }
-  }
-
- private:
-  const ForceEvaluator& evaluator_;
-  const std::vector<int>& free_dofs_;
-  double shift_;
-  mutable Eigen::Matrix3Xd full_;
-  mutable Eigen::Matrix3Xd product_;
-};
-
-// Jacobi preconditioner from the exact diagonal of K.
-class JacobiPreconditioner {
- public:
-  using StorageIndex = int;
-  enum { ColsAtCompileTime = Eigen::Dynamic, MaxColsAtCompileTime = Eigen::Dynamic };
-
-  JacobiPreconditioner() = default;
-  void SetInverseDiagonal(Eigen::VectorXd inverse) { inverse_ = std::move(inverse); }
-
-  template <typename Matrix>
-  JacobiPreconditioner& analyzePattern(const Matrix&) {
-    return *this;
-  }
-  template <typename Matrix>
-  JacobiPreconditioner& factorize(const Matrix&) {
-    return *this;
-  }
-  template <typename Matrix>
-  JacobiPreconditioner& compute(const Matrix&) {
-    return *this;
-  }
-  template <typename Rhs>
-  Eigen::VectorXd solve(const Rhs& b) const {
-    return inverse_.cwiseProduct(b);
-  }
-  Eigen::ComputationInfo info() { return Eigen::Success; }
-
- private:
-  Eigen::VectorXd inverse_;
-};
-
-}  // namespace
-}  // namespace msm_sim::core
-
-namespace Eigen::internal {
-template <typename Rhs>
-struct generic_product_impl<msm_sim::core::FreeStiffnessOperator, Rhs, SparseShape, DenseShape,
-                            GemvProduct>
-    : generic_product_impl_base<msm_sim::core::FreeStiffnessOperator, Rhs,
-                                generic_product_impl<msm_sim::core::FreeStiffnessOperator, Rhs>> {
-  template <typename Dest>
-  static void scaleAndAddTo(Dest& dst, const msm_sim::core::FreeStiffnessOperator& lhs,
-                            const Rhs& rhs, const double& alpha) {
-    lhs.ScaleAndAddTo(dst, rhs, alpha);
-  }
-};
-}  // namespace Eigen::internal
 
 namespace msm_sim::core {
 namespace {
@@ -138,58 +24,42 @@ Eigen::VectorXd FreeResidual(ForceEvaluator* evaluator, const Eigen::Matrix3Xd& 
 
 double MaxAbs(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.cwiseAbs().maxCoeff(); }
 
-template <typename Solver>
-Eigen::VectorXd SolveLinear(const FreeStiffnessOperator& op, const Eigen::VectorXd& inverse_diag,
-                            const Eigen::VectorXd& rhs, const StaticSolverOptions& options,
-                            int* iterations) {
-  Solver solver;
-  solver.preconditioner().SetInverseDiagonal(inverse_diag);
-  solver.setTolerance(options.linear_relative_tolerance);
-  solver.setMaxIterations(options.max_linear_iterations);
-  solver.compute(op);
-  Eigen::VectorXd step = solver.solve(rhs);
-  *iterations += static_cast<int>(solver.iterations());
-  return step;
-}
-
-// The Jacobi preconditioner of the shifted free stiffness. A tiny shift keeps rigid or floppy
-// modes the constraints leave free from stalling the Krylov solver; the residual is evaluated
-// exactly, so it changes the path, not the answer.
-struct ShiftedJacobi {
-  double shift;
-  Eigen::VectorXd inverse_diagonal;
-};
-
-// Precondition: evaluator was linearised at the current positions.
-ShiftedJacobi ShiftedJacobiOf(const ForceEvaluator& evaluator, const std::vector<int>& free_dofs) {
-  const int num_free = static_cast<int>(free_dofs.size());
-  const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal();
-  Eigen::VectorXd free_diagonal(num_free);
-  for (int i = 0; i < num_free; ++i) free_diagonal[i] = diagonal.data()[free_dofs[i]];
-  const double mean_diagonal = free_diagonal.cwiseAbs().mean();
-  ShiftedJacobi jacobi{1e-10 * mean_diagonal, Eigen::VectorXd(num_free)};
-  for (int i = 0; i < num_free; ++i) {
-    const double d = free_diagonal[i] + jacobi.shift;
-    jacobi.inverse_diagonal[i] = d > 1e-12 * mean_diagonal ? 1.0 / d : 1.0 / mean_diagonal;
-  }
-  return jacobi;
-}
-
 // The Newton step: solves K dx = residual on the free DOFs at the current linearisation, with
-// conjugate gradient when K is symmetric and BiCGSTAB when it is not. Adds the Krylov iterations
-// to *linear_iterations.
+// conjugate gradient when K is symmetric and BiCGSTAB when it is not, both preconditioned by the
+// exact diagonal. A tiny shift of K keeps rigid or floppy modes the constraints leave free from
+// stalling the Krylov solver; the residual is evaluated exactly, so it changes the path, not the
+// answer. Adds the Krylov iterations to *linear_iterations.
 Eigen::VectorXd NewtonStep(const ForceEvaluator& evaluator, const std::vector<int>& free_dofs,
                            const Eigen::VectorXd& residual, const StaticSolverOptions& options,
                            int* linear_iterations) {
-  const ShiftedJacobi jacobi = ShiftedJacobiOf(evaluator, free_dofs);
-  const FreeStiffnessOperator op(evaluator, free_dofs, jacobi.shift);
-  if (evaluator.stiffness_is_symmetric()) {
-    return SolveLinear<Eigen::ConjugateGradient<FreeStiffnessOperator, Eigen::Lower | Eigen::Upper,
-                                                JacobiPreconditioner>>(
-        op, jacobi.inverse_diagonal, residual, options, linear_iterations);
+  const int n = evaluator.model().num_nodes();
+  Eigen::Matrix3Xd free = Eigen::Matrix3Xd::Zero(3, n), b = free;
+  for (std::size_t i = 0; i < free_dofs.size(); ++i) {
+    free.data()[free_dofs[i]] = 1.0;
+    b.data()[free_dofs[i]] = residual[i];
   }
-  return SolveLinear<Eigen::BiCGSTAB<FreeStiffnessOperator, JacobiPreconditioner>>(
-      op, jacobi.inverse_diagonal, residual, options, linear_iterations);
+  const Eigen::Matrix3Xd diagonal = evaluator.StiffnessDiagonal().cwiseProduct(free);
+  const double mean_diagonal = diagonal.cwiseAbs().sum() / static_cast<double>(free_dofs.size());
+  const double shift = 1e-10 * mean_diagonal;
+  const Eigen::Matrix3Xd inverse_diagonal = (diagonal.array() + shift).unaryExpr([&](double d) {
+    return d > 1e-12 * mean_diagonal ? 1.0 / d : 1.0 / mean_diagonal;
+  });
+  const NodeArrayOperator apply = [&](const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) {
+    evaluator.ApplyStiffness(v, out);
+    *out += shift * v;
+  };
+  MaskedPcgOptions krylov;
+  krylov.relative_tolerance = options.linear_relative_tolerance;
+  krylov.max_iterations = options.max_linear_iterations;
+  Eigen::Matrix3Xd step = Eigen::Matrix3Xd::Zero(3, n), unused;
+  const MaskedPcgReport report =
+      evaluator.stiffness_is_symmetric()
+          ? SolveMaskedPcg(apply, b, free, inverse_diagonal, krylov, &step, &unused)
+          : SolveMaskedBiCgStab(apply, b, free, inverse_diagonal, krylov, &step);
+  *linear_iterations += report.iterations;
+  Eigen::VectorXd free_step(free_dofs.size());
+  for (std::size_t i = 0; i < free_dofs.size(); ++i) free_step[i] = step.data()[free_dofs[i]];
+  return free_step;
 }
 
 // Backtracking on the residual norm keeps Newton safe far from equilibrium: tries the step and

@@ -34,7 +34,7 @@ struct StaticSolverReport {
 /// Newton's method: each iteration solves K dx = f for the free DOFs, K the exact linearisation
 /// of the forces applied matrix-free (ForceEvaluator::ApplyStiffness, exact two-pass dispersion),
 /// with
-/// Eigen's conjugate gradient when K is symmetric (no dispersion, or linear springs with it) and
+/// conjugate gradient when K is symmetric (no dispersion, or linear springs with it) and
 /// BiCGSTAB when it is not (carrier springs with eMSM dispersion; see
 /// ForceEvaluator::stiffness_is_symmetric), both with a Jacobi preconditioner from the exact
 /// diagonal. K gets a tiny diagonal shift (1e-10 of its mean diagonal) so that rigid or floppy

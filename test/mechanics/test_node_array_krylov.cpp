@@ -1,10 +1,12 @@
-// The masked conjugate gradient of the implicit substep against a dense solve.
+// The node-array Krylov solvers (masked CG of the implicit substep, BiCGSTAB of the static
+// solver) against dense solves.
+#include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
 
-#include "mechanics/masked_pcg.h"
+#include "mechanics/node_array_krylov.h"
 
 namespace msm_sim::core {
 namespace {
@@ -142,6 +144,45 @@ TEST(MaskedPcg, EarlyStopNeedsBothTheEarlyToleranceAndTheCallersAcceptance) {
   EXPECT_EQ(refused.iterations, full.iterations);
   EXPECT_LE(refused.relative_residual, 1e-12);
   for (const double residual : seen) EXPECT_LE(residual, 1e-2);
+}
+
+TEST(MaskedBiCgStab, MatchesADenseSolveOfAnUnsymmetricSystemOnTheFreeDofs) {
+  // An unsymmetric, diagonally dominant 12 x 12 matrix: the SPD one plus a skew part.
+  Eigen::MatrixXd a = TinySpdMatrix();
+  for (int i = 0; i < 12; ++i) {
+    for (int j = 0; j < i; ++j) {
+      a(i, j) += 0.3 * std::cos(2.0 + i - 5.0 * j);
+      a(j, i) -= 0.3 * std::cos(2.0 + i - 5.0 * j);
+    }
+  }
+  Eigen::Matrix3Xd b(3, 4);
+  b << 1.0, -2.0, 0.5, 3.0, 0.0, 1.5, -1.0, 2.0, 4.0, -0.5, 1.0, 0.25;
+  Eigen::Matrix3Xd free = Eigen::Matrix3Xd::Ones(3, 4);
+  free.col(2).setZero();
+  std::vector<int> f;
+  for (int k = 0; k < 12; ++k) {
+    if (free.data()[k] != 0.0) f.push_back(k);
+  }
+  Eigen::MatrixXd a_ff(f.size(), f.size());
+  Eigen::VectorXd rhs(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    rhs[i] = b.data()[f[i]];
+    for (std::size_t j = 0; j < f.size(); ++j) a_ff(i, j) = a(f[i], f[j]);
+  }
+  const Eigen::VectorXd expected = a_ff.partialPivLu().solve(rhs);
+
+  Eigen::Matrix3Xd inverse_diagonal(3, 4);
+  for (int k = 0; k < 12; ++k) inverse_diagonal.data()[k] = 1.0 / a(k, k);
+  MaskedPcgOptions options;
+  options.relative_tolerance = 1e-12;
+  options.max_iterations = 200;
+  Eigen::Matrix3Xd x;
+  const MaskedPcgReport report =
+      SolveMaskedBiCgStab(DenseOperator(a), b, free, inverse_diagonal, options, &x);
+  EXPECT_TRUE(report.converged);
+  EXPECT_LE(report.relative_residual, 1e-12);
+  for (std::size_t i = 0; i < f.size(); ++i) EXPECT_NEAR(x.data()[f[i]], expected[i], 1e-9);
+  EXPECT_EQ(x.col(2), Eigen::Vector3d::Zero());
 }
 
 }  // namespace
