@@ -6,6 +6,8 @@
 // of its steps, with the experiment's per-step energy and speed bookkeeping (the target is >= 1).
 // Arguments: the integrator (0 explicit, 1 implicit, 2 implicit without the solve's early stop,
 // docs/physics.md §7.1 "Stopping the solve": the baseline of that stop).
+// BM_GraspSphere and BM_GraspCylinder: the grasp grid's sphere (Ø 5 cm) and cylinder (Ø 4 x 6 cm,
+// lying across the pads) in the same material and lattice, Q 1.5 (config/sweeps/grasp.yaml).
 // --benchmark_filter=Grasp --benchmark_repetitions=3
 #include <memory>
 #include <string>
@@ -14,6 +16,7 @@
 
 #include "msm_sim/experiments/grasp_experiment.h"
 #include "msm_sim/geometry/mesh_import.h"
+#include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/lattice/body_recipe.h"
 
 namespace msm_sim::core {
@@ -34,14 +37,41 @@ std::shared_ptr<const Model> GraspBean() {
   return bean;
 }
 
-void BM_GraspScene(benchmark::State& state) {
-  const auto bean = GraspBean();
+// A solid of the grasp grid (as `msm_lab grasp` makes it) in the bean's material and lattice.
+std::shared_ptr<const Model> GraspPrimitive(const TriangleMesh& surface) {
+  BodyRecipe recipe(Material::FromYoungsPoisson(259e3, 0.49, 1070.0));
+  recipe.solid = std::make_shared<const SolidMesh>(surface);
+  recipe.lattice.spacing = 0.003;
+  recipe.surface.surface_dispersion = 0.25;
+  return std::make_shared<const Model>(BuildModel(recipe));
+}
+
+std::shared_ptr<const Model> GraspSphere() {
+  static std::shared_ptr<const Model> sphere;
+  if (!sphere) sphere = GraspPrimitive(MakeIcosphereMesh(0.025, 4));
+  return sphere;
+}
+
+// Lying across the pads: its axis along y (a quarter turn about x), the pads closing along x.
+std::shared_ptr<const Model> GraspCylinder() {
+  static std::shared_ptr<const Model> cylinder;
+  if (!cylinder) {
+    TriangleMesh mesh = MakeCylinderMesh(0.02, 0.06, 96);
+    const Eigen::Matrix3Xd along_z = mesh.vertices;
+    mesh.vertices.row(1) = -along_z.row(2);
+    mesh.vertices.row(2) = along_z.row(1);
+    cylinder = GraspPrimitive(mesh);
+  }
+  return cylinder;
+}
+
+void RunGrasp(benchmark::State& state, const std::shared_ptr<const Model>& object) {
   GraspExperimentOptions options;
   options.integrator = state.range(0) == 0 ? Integrator::kExplicit : Integrator::kImplicit;
   if (state.range(0) == 2) options.implicit_energy_tolerance = 0.0;
   GraspExperimentResult result;
   for (auto _ : state) {
-    result = RunGraspExperiment(bean, options);
+    result = RunGraspExperiment(object, options);
     state.SetIterationTime(result.simulated_time / result.real_time_factor);
   }
   state.counters["nodes"] = result.nodes;
@@ -49,10 +79,21 @@ void BM_GraspScene(benchmark::State& state) {
   state.counters["held"] = result.held ? 1.0 : 0.0;
   state.counters["cg_iterations_per_step"] = result.solver_iterations;
 }
+
+void BM_GraspScene(benchmark::State& state) { RunGrasp(state, GraspBean()); }
+void BM_GraspSphere(benchmark::State& state) { RunGrasp(state, GraspSphere()); }
+void BM_GraspCylinder(benchmark::State& state) { RunGrasp(state, GraspCylinder()); }
 BENCHMARK(BM_GraspScene)
     ->Arg(0)
     ->Arg(1)
     ->Arg(2)
+    ->UseManualTime()
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+BENCHMARK(BM_GraspSphere)->Arg(0)->Arg(1)->UseManualTime()->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_GraspCylinder)
+    ->Arg(0)
+    ->Arg(1)
     ->UseManualTime()
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
