@@ -59,6 +59,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/linearization_kernels.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_bicgstab.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
+  ${MSM_SIM_DIR}/src/mechanics/node_shares.cpp
   ${MSM_SIM_DIR}/src/mechanics/momentum_flow.cpp
   ${MSM_SIM_DIR}/src/mechanics/orientation_barrier.cpp
   ${MSM_SIM_DIR}/src/mechanics/share_plan.cpp

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "dynamics/recovery_speed.h"
+#include "mechanics/node_shares.h"
 
 namespace msm_sim::core::internal {
 namespace {
@@ -20,7 +21,7 @@ namespace {
 constexpr double kPatchReach = 1.1;
 
 // What a node near a collider costs the contact stage, in units of what a node costs the
-// explicit substep's other stages and spring loops (ForceEvaluator::CutNodeShares), so that
+// explicit substep's other stages and spring loops (internal::NodeShares::Cut), so that
 // shares cut at the contacts carry equal work; how it was chosen: docs/design/threads-default.md.
 constexpr double kContactWork = 2.0;
 
@@ -58,7 +59,7 @@ void ColliderContacts::CollideWithColliders(Body* body, int* microcollisions) {
   // border nodes into ranges of equal numbers of nodes near a collider instead, to share a
   // block's ground contacts, all in the first share, did not pay: the nodes' cache lines then
   // went to the other core and back; docs/design/threads-default.md.)
-  body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+  internal::NodeShares::ForEach(&body->evaluator, [&](int share, int begin, int end) {
     CollideShare(&stage, body, share, begin, end, &body->pending);
   });
   EndContactStage(stage, body, microcollisions);
@@ -72,7 +73,7 @@ void ColliderContacts::CutNodeSharesAtContacts(Body* body, bool cut) const {
   for (std::size_t k = 0; cut && k < body->near_collider.size(); ++k) {
     if (body->near_collider[k]) busy.push_back(body->border.nodes[k]);
   }
-  body->evaluator.CutNodeShares(busy, kContactWork);
+  internal::NodeShares::Cut(&body->evaluator, busy, kContactWork);
 }
 
 ContactStage ColliderContacts::BeginContactStage(Body* body) const {
@@ -83,7 +84,7 @@ ContactStage ColliderContacts::BeginContactStage(Body* body) const {
     stage.frictions[c] = Friction(*body, static_cast<int>(c));
   }
   body->near_collider.resize(body->border.nodes.size());
-  const int shares = body->evaluator.NumNodeShares();
+  const int shares = internal::NodeShares::Count(body->evaluator);
   body->share_records.resize(shares - 1);
   stage.counts.assign(shares, 0);
   return stage;

@@ -74,13 +74,13 @@ class ColliderContacts {
   /// Coulomb coefficient of a body against a collider: the pair's, or sqrt(mu_body mu_collider).
   double Friction(const Body& body, int collider) const;
   /// Stops every approach of body's free border nodes towards the colliders, with friction.
-  /// Runs on the node shares of the body's force loops (ForceEvaluator::ForEachNodeShare), each
+  /// Runs on the node shares of the body's force loops (internal::NodeShares::ForEach), each
   /// share taking the border nodes among its nodes and recording into its own ContactRecords,
   /// added to the body's in share order: with one share the body's records directly.
   /// Precondition: the body's impulses are sized (StepLoop::ClearStepRecords).
   void CollideWithColliders(Body* body, int* microcollisions);
   /// At a Step's start: cuts the body's node shares at equal work, counting the work of the
-  /// border nodes the last contact stage found near a collider (ForceEvaluator::CutNodeShares),
+  /// border nodes the last contact stage found near a collider (internal::NodeShares::Cut),
   /// or, without `cut`, into equal shares.
   void CutNodeSharesAtContacts(Body* body, bool cut) const;
   /// CollideWithColliders in three parts. Begin: the colliders' frames (at their current

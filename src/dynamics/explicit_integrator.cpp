@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dynamics/node_stages.h"
+#include "mechanics/node_shares.h"
 #include "mechanics/simd_clones.h"
 
 namespace msm_sim::core::internal {
@@ -29,7 +30,7 @@ void KickNodes(int n, double h, const double* forces, const double* inverse_mass
 }
 
 // KickNodes for nodes [begin, end) with the forces as the single-precision loops leave them
-// (ForceEvaluator::NodeStages::after_unstored: x, y, z blocks of the a ends, then of the b ends,
+// (internal::NodeStages::after_unstored: x, y, z blocks of the a ends, then of the b ends,
 // `stride` floats apart): node i's force is the double sum of its a- and
 // b-end floats, which StoreSingleEndForces would have stored for KickNodes to read back. The
 // same arithmetic, without that round trip through memory.
@@ -63,7 +64,8 @@ void ExplicitIntegrator::SubstepInOnePass(Body* body, double h, double t0) {
   const bool contacts = !world_.colliders.empty();
   ContactStage stage;
   if (contacts) stage = contacts_.BeginContactStage(body);
-  std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
+  std::vector<double> fastest(internal::NodeShares::Count(body->evaluator)),
+      nonfinite(fastest.size());
   // The first share's rebounds wait in next_pending while the shares still apply `pending`.
   body->next_pending.clear();
   // Within a Step, the next substep's stages 1-2 come with this one's last drift, and its float
@@ -72,7 +74,7 @@ void ExplicitIntegrator::SubstepInOnePass(Body* body, double h, double t0) {
   // NoteFastest sees the rebounds applied), and a rejected step restores its start.
   const bool drifted = world_.drifted_ahead, rounded = world_.rounded_ahead;
   world_.drifted_ahead = world_.substep_index + 1 < world_.substep_count;
-  world_.rounded_ahead = world_.drifted_ahead && body->evaluator.RoundsNodes();
+  world_.rounded_ahead = world_.drifted_ahead && internal::NodeShares::Rounds(body->evaluator);
   const Eigen::Matrix3Xd* dampers =
       body->options.damping_beta != 0.0 ? &body->state.velocities : nullptr;
   const std::function<void(int, int, int)> finish = [&](int share, int begin, int end) {
@@ -86,8 +88,8 @@ void ExplicitIntegrator::SubstepInOnePass(Body* body, double h, double t0) {
           end);
     }
     if (world_.rounded_ahead) {
-      body->evaluator.RoundNodes(body->state.positions, dampers, begin, end,
-                                 body->float_origin.data());
+      internal::NodeShares::Round(&body->evaluator, body->state.positions, dampers, begin, end,
+                                  body->float_origin.data());
     }
   };
   DriftForceAndKick(body, h, t0, &finish, drifted, rounded, world_.rounded_ahead);  // 1-4, `finish`
@@ -108,13 +110,13 @@ void ExplicitIntegrator::DriftForceAndKick(Body* body, double h, double t0,
                                            const std::function<void(int, int, int)>* finish,
                                            bool drifted, bool rounded, bool rounds_ahead) {
   // Each node share of the force loops drifts, kicks and places its own nodes on its own thread
-  // (ForceEvaluator::NodeStages): they stay in that core's cache, and with two threads the
+  // (internal::NodeStages): they stay in that core's cache, and with two threads the
   // per-node stages no longer wait on one core (docs/physics.md §9).
   // The frames' poses here, on the caller's thread: a pose function need not be thread-safe.
   const std::vector<Eigen::Isometry3d> poses = GroupPoses(*body, t0 + 0.5 * h);
-  ForceEvaluator::NodeStages stages;
+  internal::NodeStages stages;
   stages.origin = body->float_origin.data();
-  stages.rounded = rounded && body->evaluator.RoundsNodes();
+  stages.rounded = rounded && internal::NodeShares::Rounds(body->evaluator);
   stages.rounds_ahead = rounds_ahead;
   const bool save = world_.substep_index == 0;  // SaveForRollback's copy of the nodes
   stages.before = [body, h, &poses, save, drifted](int, int begin, int end) {
@@ -137,8 +139,8 @@ void ExplicitIntegrator::DriftForceAndKick(Body* body, double h, double t0,
       if (finish != nullptr) (*finish)(share, begin, end);
     };
   }
-  body->evaluator.SetForces(body->state.positions, body->state.velocities,
-                            body->options.damping_beta, &body->forces, stages);
+  internal::NodeShares::SetForces(&body->evaluator, body->state.positions, body->state.velocities,
+                                  body->options.damping_beta, &body->forces, stages);
   body->pending.clear();
 }
 

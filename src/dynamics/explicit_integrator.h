@@ -25,11 +25,11 @@ class ExplicitIntegrator {
 
   /// 1-4: each node share of the body's force loops drifts, places its kinematic nodes and
   /// applies its pending restitution, then, once its forces are set, adds its pushes and kicks,
-  /// all on the share's thread (ForceEvaluator::NodeStages). `finish(share, begin, end)`, if
+  /// all on the share's thread (internal::NodeStages). `finish(share, begin, end)`, if
   /// given, runs on each share right after its kick. `drifted`: stages 1-2 were already taken
   /// (drifted_ahead; only without kinematic groups, whose nodes it would not place), and the
   /// nodes rounded for the float loops if `rounded`. `rounds_ahead`: `finish` rounds every node
-  /// for the next substep (ForceEvaluator::NodeStages::rounds_ahead).
+  /// for the next substep (internal::NodeStages::rounds_ahead).
   void DriftForceAndKick(Body* body, double h, double t0,
                          const std::function<void(int, int, int)>* finish = nullptr,
                          bool drifted = false, bool rounded = false, bool rounds_ahead = false);

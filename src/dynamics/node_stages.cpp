@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "mechanics/node_shares.h"
 #include "mechanics/simd_clones.h"
 
 namespace msm_sim::core::internal {
@@ -147,8 +148,9 @@ void DriftHalfNotingFastest(Body* body, double h, double t0, double max_speed) {
   // would not; docs/design/speed-against-bullet.md); the rare flagged substep finds the node in a
   // second pass.
   // Each node share on its own thread, as in DriftForceAndKick.
-  std::vector<double> fastest(body->evaluator.NumNodeShares()), nonfinite(fastest.size());
-  body->evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+  std::vector<double> fastest(internal::NodeShares::Count(body->evaluator)),
+      nonfinite(fastest.size());
+  internal::NodeShares::ForEach(&body->evaluator, [&](int share, int begin, int end) {
     DriftShare(body, h, false, share, begin, end, &fastest, &nonfinite);
   });
   NoteDriftExtremes(body, fastest, nonfinite, t0 + h, max_speed);

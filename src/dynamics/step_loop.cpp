@@ -95,7 +95,7 @@ std::string StepLoop::RunSubsteps(int count, double h,
   for (Body& body : world_.bodies) {
     if (body.model->num_nodes() > 0) body.float_origin = body.state.positions.col(0);
     // Cut at the contacts only where the one-pass substep's last share makes up for the cut
-    // (ForceEvaluator::NodeStages::rounds_ahead): not in a Step's first substep's stages nor in
+    // (internal::NodeStages::rounds_ahead): not in a Step's first substep's stages nor in
     // its last's contacts, so it takes several (a one-substep Step ran slower cut;
     // docs/design/threads-default.md).
     const bool cut = world_.options.cut_shares_at_contacts && explicit_.SubstepsInOnePass() &&

@@ -5,6 +5,7 @@
 
 #include "dynamics/node_stages.h"
 #include "dynamics/step_loop.h"
+#include "mechanics/node_shares.h"
 
 namespace msm_sim::core::internal {
 
@@ -22,7 +23,7 @@ StepStart StepLoop::SaveForRollback() {
     // them (docs/physics.md §9): copied on the caller's thread, the other share's nodes left its
     // cache shared, and its first drift waited for them (docs/design/threads-default.md).
     if (!explicit_drift) {
-      body.evaluator.ForEachNodeShare([&body](int, int begin, int end) {
+      internal::NodeShares::ForEach(&body.evaluator, [&body](int, int begin, int end) {
         body.saved_positions.middleCols(begin, end - begin) =
             body.state.positions.middleCols(begin, end - begin);
         body.saved_velocities.middleCols(begin, end - begin) =

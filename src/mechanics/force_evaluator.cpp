@@ -45,18 +45,19 @@ std::shared_ptr<const ScheduledSpringData> ScheduleRuns(const Model& model,
 ForceEvaluator::ForceEvaluator(const Model& model, SpringKernels kernels, int max_threads)
     : model_(&model),
       plan_(std::make_unique<internal::SharePlan>(model.num_nodes(), model.num_springs(),
-                                                  max_threads)),
-      single_passes_(std::make_unique<internal::SinglePasses>()) {
+                                                  max_threads)) {
+  single_loops_.passes =
+      internal::Copied<internal::SinglePasses>(std::make_unique<internal::SinglePasses>());
   const int n = model.num_nodes();
   const int num_springs = model.num_springs();
   const double q = model.dispersion_fraction();
   // Star weight W of every node: the sum of its springs' outflow weights w = v k L0^2 (the
   // spring count b, up to a common factor, for the paper's equal shares).
   Eigen::VectorXd star_weight = Eigen::VectorXd::Zero(n);
-  inflow_a_.resize(num_springs);
-  inflow_b_.resize(num_springs);
-  outflow_a_.resize(num_springs);
-  outflow_b_.resize(num_springs);
+  dispersion_.inflow_a.resize(num_springs);
+  dispersion_.inflow_b.resize(num_springs);
+  dispersion_.outflow_a.resize(num_springs);
+  dispersion_.outflow_b.resize(num_springs);
   for (int s = 0; s < num_springs; ++s) {
     const double rest = model.spring_rest_length()[s];
     const double k_l2 = model.spring_stiffness()[s] * rest * rest;
@@ -65,25 +66,26 @@ ForceEvaluator::ForceEvaluator(const Model& model, SpringKernels kernels, int ma
     // w = v k L0^2 makes the dispersion conservative (see Model::dispersion_weight_a).
     star_weight[model.spring_node_a()[s]] += va * k_l2;
     star_weight[model.spring_node_b()[s]] += vb * k_l2;
-    inflow_a_[s] = q * rest * va;
-    inflow_b_[s] = q * rest * vb;
-    outflow_a_[s] = va * k_l2 / rest;
-    outflow_b_[s] = vb * k_l2 / rest;
+    dispersion_.inflow_a[s] = q * rest * va;
+    dispersion_.inflow_b[s] = q * rest * vb;
+    dispersion_.outflow_a[s] = va * k_l2 / rest;
+    dispersion_.outflow_b[s] = vb * k_l2 / rest;
   }
-  inverse_star_weight_.resize(n);
+  dispersion_.inverse_star_weight.resize(n);
   for (int i = 0; i < n; ++i) {
-    inverse_star_weight_[i] = star_weight[i] > 0.0 ? 1.0 / star_weight[i] : 0.0;
+    dispersion_.inverse_star_weight[i] = star_weight[i] > 0.0 ? 1.0 / star_weight[i] : 0.0;
   }
-  tensions_.setZero(num_springs);
-  inverse_lengths_.setZero(num_springs);
-  total_tensions_.setZero(num_springs);
-  accumulator_.setZero(n);
-  dispersion_per_weight_.setZero(n);
+  per_spring_.tensions.setZero(num_springs);
+  per_spring_.inverse_lengths.setZero(num_springs);
+  totals_.model_order.setZero(num_springs);
+  dispersion_.accumulator.setZero(n);
+  dispersion_.per_weight.setZero(n);
   // The run kernels know linear springs only, and the Baudet pass adds to model-order tensions.
   if (kernels == SpringKernels::kAuto && model.spring_law() == SpringLaw::kLinear &&
       model.correction_edges().empty()) {
-    scheduled_ = ScheduleRuns(model, inflow_a_, inflow_b_, outflow_a_, outflow_b_);
-    if (scheduled_) scheduled_totals_.setZero(num_springs);
+    runs_.springs = ScheduleRuns(model, dispersion_.inflow_a, dispersion_.inflow_b,
+                                 dispersion_.outflow_a, dispersion_.outflow_b);
+    if (runs_.springs) runs_.totals.setZero(num_springs);
   }
 }
 
@@ -95,42 +97,42 @@ ForceEvaluator::~ForceEvaluator() = default;
 
 void ForceEvaluator::set_orientation_barrier(std::shared_ptr<const OrientationBarrier> barrier) {
   barrier_ = std::move(barrier);
-  single_passes_->ForgetAhead();
+  single_loops_.passes->ForgetAhead();
 }
 
 void ForceEvaluator::set_max_threads(int max_threads) {
   plan_->set_max_threads(max_threads);
-  single_passes_->ForgetAhead();  // the shares' overflows move
+  single_loops_.passes->ForgetAhead();  // the shares' overflows move
 }
 
 void ForceEvaluator::set_precision(SpringPrecision precision) {
   precision_ = precision;
-  single_passes_->ForgetAhead();
-  if (precision == SpringPrecision::kDouble || !scheduled_) {
-    single_.reset();
-  } else if (!single_) {
-    single_ = SinglePrecisionSprings::Schedule(*model_);
+  single_loops_.passes->ForgetAhead();
+  if (precision == SpringPrecision::kDouble || !runs_.springs) {
+    single_loops_.springs.reset();
+  } else if (!single_loops_.springs) {
+    single_loops_.springs = SinglePrecisionSprings::Schedule(*model_);
     // A linearisation from before takes the single-precision products from now on.
-    if (scheduled_linearization_.size() == 4 * static_cast<Eigen::Index>(model_->num_springs())) {
+    if (runs_.linearization.size() == 4 * static_cast<Eigen::Index>(model_->num_springs())) {
       RoundLinearization();
     }
   }
 }
 
 const Eigen::VectorXd& ForceEvaluator::total_tensions() const {
-  if (!totals_recorded_) {
+  if (!totals_.recorded) {
     throw std::logic_error(
         "ForceEvaluator::total_tensions: the last evaluation was single precision, which records "
         "no tensions; evaluate in double (set_precision(SpringPrecision::kDouble)) first");
   }
-  if (totals_scheduled_) {
-    const std::vector<SpringIndex>& model_index = scheduled_->schedule.model_index;
+  if (totals_.scheduled) {
+    const std::vector<SpringIndex>& model_index = runs_.springs->schedule.model_index;
     for (std::size_t p = 0; p < model_index.size(); ++p) {
-      total_tensions_[model_index[p]] = scheduled_totals_[static_cast<Eigen::Index>(p)];
+      totals_.model_order[model_index[p]] = runs_.totals[static_cast<Eigen::Index>(p)];
     }
-    totals_scheduled_ = false;
+    totals_.scheduled = false;
   }
-  return total_tensions_;
+  return totals_.model_order;
 }
 
 void ForceEvaluator::AccumulateForces(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
@@ -153,71 +155,34 @@ void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
   overwrite_forces_ = false;
 }
 
-void ForceEvaluator::SetForces(const Eigen::Matrix3Xd& positions,
-                               const Eigen::Matrix3Xd& velocities, double damping_beta,
-                               Eigen::Matrix3Xd* forces, const NodeStages& stages) {
-  if (!UsesSingleLoops()) {
-    stages.before(0, 0, model_->num_nodes());
-    SetForces(positions, velocities, damping_beta, forces);
-    stages.after(0, 0, model_->num_nodes());
-    return;
-  }
-  stages_ = &stages;
-  SetForces(positions, velocities, damping_beta, forces);
-  stages_ = nullptr;
-}
-
-void ForceEvaluator::RoundNodes(const Eigen::Matrix3Xd& positions,
-                                const Eigen::Matrix3Xd* velocities, int begin, int end,
-                                const double origin[3]) {
-  single_passes_->Round(*single_, positions.data(),
-                        velocities != nullptr ? velocities->data() : nullptr, begin, end, origin);
-}
-
 bool ForceEvaluator::UsesSingleLoops() const {
   // As Accumulate chooses: the run kernels in single precision where the model has them.
-  return scheduled_ && single_;
-}
-
-int ForceEvaluator::NumNodeShares() const {
-  return UsesSingleLoops() ? plan_->NodeShareCount() : 1;
-}
-
-void ForceEvaluator::ForEachNodeShare(const std::function<void(int, int, int)>& task) {
-  const int count = NumNodeShares();
-  internal::SharePlan::Run(count, [&](int t) {
-    const SingleShare share = plan_->NodeShare(t, count);
-    task(t, share.begin, share.end);
-  });
-}
-
-void ForceEvaluator::CutNodeShares(const std::vector<NodeIndex>& busy, double busy_work) {
-  if (plan_->Cut(busy, busy_work)) single_passes_->ForgetAhead();  // the overflows move
+  return runs_.springs && single_loops_.springs;
 }
 
 void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                 Eigen::Matrix3Xd* forces) {
-  totals_recorded_ = true;
+  totals_.recorded = true;
   // SetForces: every path but the single-precision loops adds to *forces.
-  if (overwrite_forces_ && !(scheduled_ && single_)) forces->setZero();
-  if (!scheduled_) {
+  if (overwrite_forces_ && !(runs_.springs && single_loops_.springs)) forces->setZero();
+  if (!runs_.springs) {
     AccumulatePerSpring(positions, damping, forces);
     return;
   }
-  if (single_) {
+  if (single_loops_.springs) {
     AccumulateSingle(positions, damping, forces);
   } else {
     AccumulateRuns(positions, damping, forces);
   }
   // The single-precision loops add the barrier on each share, before its `after` stage.
-  if (barrier_ && !single_) barrier_->AccumulateForces(positions, forces);
+  if (barrier_ && !single_loops_.springs) barrier_->AccumulateForces(positions, forces);
 }
 
 void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                     Eigen::Matrix3Xd* forces) {
   const Eigen::Index n = model_->num_nodes();
-  node_arrays_.resize(9 * n);
-  double* x = node_arrays_.data();
+  runs_.node_arrays.resize(9 * n);
+  double* x = runs_.node_arrays.data();
   double* v = x + 3 * n;
   double* f = x + 6 * n;
   ToNodeArrays(positions.data(), n, x);
@@ -229,9 +194,9 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
     run_damping.velocities = &v_arrays;
   }
   std::fill(f, f + 3 * n, 0.0);
-  const ScheduledSprings springs = scheduled_->View();
-  const int num_runs = static_cast<int>(scheduled_->schedule.runs.size());
-  double* totals = scheduled_totals_.data();
+  const ScheduledSprings springs = runs_.springs->View();
+  const int num_runs = static_cast<int>(runs_.springs->schedule.runs.size());
+  double* totals = runs_.totals.data();
   if (model_->dispersion_fraction() == 0.0) {
     plan_->ForSpringShares(num_runs, f, 3 * n, [&](int begin, int end, double* target) {
       PlainRuns(springs, begin, end, x_arrays, run_damping, {target, target + n, target + 2 * n},
@@ -239,39 +204,41 @@ void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Dam
     });
   } else {
     InflowRunsToAccumulator(x);
-    dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
+    dispersion_.per_weight = dispersion_.accumulator.cwiseProduct(dispersion_.inverse_star_weight);
     plan_->ForSpringShares(num_runs, f, 3 * n, [&](int begin, int end, double* target) {
-      OutflowRuns(springs, begin, end, x_arrays, run_damping, dispersion_per_weight_.data(),
+      OutflowRuns(springs, begin, end, x_arrays, run_damping, dispersion_.per_weight.data(),
                   {target, target + n, target + 2 * n}, totals);
     });
   }
   AddNodeArrays(f, n, forces->data());
-  totals_scheduled_ = true;
+  totals_.scheduled = true;
 }
 
 void ForceEvaluator::InflowRunsToAccumulator(const double* x_arrays) {
   const Eigen::Index n = model_->num_nodes();
   const NodeArrays x{x_arrays, x_arrays + n, x_arrays + 2 * n};
-  const ScheduledSprings springs = scheduled_->View();
-  const int num_runs = static_cast<int>(scheduled_->schedule.runs.size());
-  end_sums_.setZero(2 * n);
-  plan_->ForSpringShares(num_runs, end_sums_.data(), 2 * n,
+  const ScheduledSprings springs = runs_.springs->View();
+  const int num_runs = static_cast<int>(runs_.springs->schedule.runs.size());
+  runs_.end_sums.setZero(2 * n);
+  plan_->ForSpringShares(num_runs, runs_.end_sums.data(), 2 * n,
                          [&](int begin, int end, double* target) {
                            InflowRuns(springs, begin, end, x, target, target + n);
                          });
-  accumulator_ = model_->dispersion_fraction() * (end_sums_.head(n) + end_sums_.tail(n));
+  dispersion_.accumulator =
+      model_->dispersion_fraction() * (runs_.end_sums.head(n) + runs_.end_sums.tail(n));
 }
 
 void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                       Eigen::Matrix3Xd* forces) {
-  const internal::SingleInputs in{
-      model_,           single_.get(), &positions,     damping.velocities,
-      damping.beta,     stages_,       barrier_.get(), inverse_star_weight_.data(),
-      overwrite_forces_};
+  const internal::SingleInputs in{model_,           single_loops_.springs.get(),
+                                  &positions,       damping.velocities,
+                                  damping.beta,     single_loops_.stages,
+                                  barrier_.get(),   dispersion_.inverse_star_weight.data(),
+                                  overwrite_forces_};
   const internal::SingleOutputs out{forces, &barrier_forces_};
-  single_passes_->Evaluate(*plan_, in, out);
-  totals_recorded_ = false;
-  totals_scheduled_ = false;
+  single_loops_.passes->Evaluate(*plan_, in, out);
+  totals_.recorded = false;
+  totals_.scheduled = false;
 }
 
 }  // namespace msm_sim::core

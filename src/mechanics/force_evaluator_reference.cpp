@@ -57,7 +57,7 @@ void ForceEvaluator::PlainPass(const Law& law, const Eigen::Matrix3Xd& positions
                                const Damping& damping, Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
-  double* __restrict total = total_tensions_.data();
+  double* __restrict total = totals_.model_order.data();
   plan_->ForSpringShares(model_->num_springs(), forces->data(), forces->size(),
                          [&](int begin, int end, double* __restrict f) {
                            for (int s = begin; s < end; ++s) {
@@ -76,12 +76,13 @@ template <class Law>
 void ForceEvaluator::InflowPass(const Law& law, const Eigen::Matrix3Xd& positions) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
-  const double* __restrict inflow_a = inflow_a_.data();
-  const double* __restrict inflow_b = inflow_b_.data();
-  double* __restrict tensions = tensions_.data();
-  double* __restrict inverse_lengths = inverse_lengths_.data();
-  accumulator_.setZero();
-  plan_->ForSpringShares(model_->num_springs(), accumulator_.data(), accumulator_.size(),
+  const double* __restrict inflow_a = dispersion_.inflow_a.data();
+  const double* __restrict inflow_b = dispersion_.inflow_b.data();
+  double* __restrict tensions = per_spring_.tensions.data();
+  double* __restrict inverse_lengths = per_spring_.inverse_lengths.data();
+  dispersion_.accumulator.setZero();
+  plan_->ForSpringShares(model_->num_springs(), dispersion_.accumulator.data(),
+                         dispersion_.accumulator.size(),
                          [&](int begin, int end, double* __restrict accumulator) {
                            for (int s = begin; s < end; ++s) {
                              double r[3];
@@ -100,12 +101,12 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Dampin
                                  Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
   const double* __restrict x = positions.data();
-  const double* __restrict g = dispersion_per_weight_.data();
-  const double* __restrict outflow_a = outflow_a_.data();
-  const double* __restrict outflow_b = outflow_b_.data();
-  const double* __restrict tensions = tensions_.data();
-  const double* __restrict inverse_lengths = inverse_lengths_.data();
-  double* __restrict total = total_tensions_.data();
+  const double* __restrict g = dispersion_.per_weight.data();
+  const double* __restrict outflow_a = dispersion_.outflow_a.data();
+  const double* __restrict outflow_b = dispersion_.outflow_b.data();
+  const double* __restrict tensions = per_spring_.tensions.data();
+  const double* __restrict inverse_lengths = per_spring_.inverse_lengths.data();
+  double* __restrict total = totals_.model_order.data();
   plan_->ForSpringShares(model_->num_springs(), forces->data(), forces->size(),
                          [&](int begin, int end, double* __restrict f) {
                            for (int s = begin; s < end; ++s) {
@@ -144,7 +145,7 @@ void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Ma
     for (int i = 0; i < 12; ++i) {
       const SpringIndex s = edges[e][i];
       const double tension = coefficient[e] * (sum - elongation[i / 4]);
-      total_tensions_[s] += tension;
+      totals_.model_order[s] += tension;
       ApplyPair(forces->data(), a[s], b[s], tension / length[i], r[i]);
     }
   }
@@ -153,7 +154,7 @@ void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Ma
 template <bool Damped>
 void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
                                              const Damping& damping, Eigen::Matrix3Xd* forces) {
-  totals_scheduled_ = false;
+  totals_.scheduled = false;
   if (model_->dispersion_fraction() == 0.0) {
     internal::VisitSpringLaw(
         *model_, [&](const auto& law) { PlainPass<Damped>(law, positions, damping, forces); });
@@ -164,7 +165,7 @@ void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
   // Two passes: the direct tensions fill the accumulators, then every spring applies its direct
   // plus dispersed tension at once.
   internal::VisitSpringLaw(*model_, [&](const auto& law) { InflowPass(law, positions); });
-  dispersion_per_weight_ = accumulator_.cwiseProduct(inverse_star_weight_);
+  dispersion_.per_weight = dispersion_.accumulator.cwiseProduct(dispersion_.inverse_star_weight);
   OutflowPass<Damped>(positions, damping, forces);
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
   if (barrier_) barrier_->AccumulateForces(positions, forces);

@@ -15,34 +15,34 @@ namespace msm_sim::core {
 void ForceEvaluator::LinearizeScheduled(const Eigen::Matrix3Xd& positions, bool drop_compression) {
   // The two-pass total tensions in double, whatever the caller's precision (K and the solve
   // need the exact tensions), as AccumulateRuns computes them but without dampers and forces;
-  // the dispersion g of the caller's last evaluation (dispersion_per_weight_) is left alone.
+  // the dispersion g of the caller's last evaluation (dispersion_.per_weight) is left alone.
   const Eigen::Index n = model_->num_nodes();
   const int count = model_->num_springs();
-  node_arrays_.resize(9 * n);
-  double* x = node_arrays_.data();
+  runs_.node_arrays.resize(9 * n);
+  double* x = runs_.node_arrays.data();
   ToNodeArrays(positions.data(), n, x);
   const NodeArrays x_arrays{x, x + n, x + 2 * n};
-  const ScheduledSprings springs = scheduled_->View();
-  const int num_runs = static_cast<int>(scheduled_->schedule.runs.size());
-  scheduled_linearization_.resize(4 * static_cast<Eigen::Index>(count));
-  double* storage = scheduled_linearization_.data();
-  double* totals = scheduled_totals_.data();
+  const ScheduledSprings springs = runs_.springs->View();
+  const int num_runs = static_cast<int>(runs_.springs->schedule.runs.size());
+  runs_.linearization.resize(4 * static_cast<Eigen::Index>(count));
+  double* storage = runs_.linearization.data();
+  double* totals = runs_.totals.data();
   if (model_->dispersion_fraction() == 0.0) {
     plan_->ForSpringShares(num_runs, nullptr, 0, [&](int begin, int end, double*) {
       LinearizePlainRuns(springs, begin, end, count, x_arrays, drop_compression, totals, storage);
     });
   } else {
     InflowRunsToAccumulator(x);
-    accumulator_.array() *= inverse_star_weight_.array();  // now g = J / W
+    dispersion_.accumulator.array() *= dispersion_.inverse_star_weight.array();  // now g = J / W
     plan_->ForSpringShares(num_runs, nullptr, 0, [&](int begin, int end, double*) {
-      LinearizeDispersedRuns(springs, begin, end, count, x_arrays, accumulator_.data(),
+      LinearizeDispersedRuns(springs, begin, end, count, x_arrays, dispersion_.accumulator.data(),
                              drop_compression, totals, storage);
     });
   }
   // total_tensions() now answers with these tensions, as after a double evaluation.
-  totals_recorded_ = true;
-  totals_scheduled_ = true;
-  if (single_) RoundLinearization();
+  totals_.recorded = true;
+  totals_.scheduled = true;
+  if (single_loops_.springs) RoundLinearization();
 }
 
 Eigen::Matrix3Xd ForceEvaluator::ScheduledStiffnessDiagonal() const {
@@ -51,17 +51,17 @@ Eigen::Matrix3Xd ForceEvaluator::ScheduledStiffnessDiagonal() const {
   const Eigen::Index n = model_->num_nodes();
   const bool disperse = model_->dispersion_fraction() != 0.0;
   const Eigen::Index blocks = disperse ? 9 : 3;
-  diagonal_arrays_.setZero(blocks * n);
-  double* d = diagonal_arrays_.data();
+  runs_.diagonal_arrays.setZero(blocks * n);
+  double* d = runs_.diagonal_arrays.data();
   // Blocks of N: the diagonal's x, y, z, then with dispersion s1's and s2's.
   const auto block = [n, disperse](double* sums, int b) {
     return disperse || b < 3 ? sums + b * n : nullptr;
   };
-  const ScheduledSprings springs = scheduled_->View();
-  const int num_runs = static_cast<int>(scheduled_->schedule.runs.size());
+  const ScheduledSprings springs = runs_.springs->View();
+  const int num_runs = static_cast<int>(runs_.springs->schedule.runs.size());
   const ScheduledLinearization linearization =
-      ScheduledLinearization::Of(scheduled_linearization_.data(), model_->num_springs());
-  const double* inverse_weight = disperse ? inverse_star_weight_.data() : nullptr;
+      ScheduledLinearization::Of(runs_.linearization.data(), model_->num_springs());
+  const double* inverse_weight = disperse ? dispersion_.inverse_star_weight.data() : nullptr;
   plan_->ForSpringShares(num_runs, d, blocks * n, [&](int begin, int end, double* target) {
     StiffnessDiagonalRuns(springs, begin, end, linearization, inverse_weight,
                           {block(target, 0), block(target, 1), block(target, 2)},
@@ -73,7 +73,8 @@ Eigen::Matrix3Xd ForceEvaluator::ScheduledStiffnessDiagonal() const {
     for (int axis = 0; axis < 3; ++axis) {
       double value = d[axis * n + i];
       if (disperse) {
-        value += inverse_star_weight_[i] * (block(d, 3 + axis)[i] * block(d, 6 + axis)[i]);
+        value +=
+            dispersion_.inverse_star_weight[i] * (block(d, 3 + axis)[i] * block(d, 6 + axis)[i]);
       }
       out(axis, i) = value;
     }

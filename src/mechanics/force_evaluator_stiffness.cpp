@@ -28,13 +28,13 @@ double ForceEvaluator::EnergyImpl(const Law& law, const Eigen::Matrix3Xd& positi
     energy += law.Energy(k[s], rest[s], length);
     if (q != 0.0) {
       const double t = law.Tension(k[s], rest[s], length);
-      accumulator[a[s]] += inflow_a_[s] * t;
-      accumulator[b[s]] += inflow_b_[s] * t;
+      accumulator[a[s]] += dispersion_.inflow_a[s] * t;
+      accumulator[b[s]] += dispersion_.inflow_b[s] * t;
     }
   }
-  // Phi = sum J^2 / (2 q W); inverse_star_weight_ holds 1 / W.
+  // Phi = sum J^2 / (2 q W); dispersion_.inverse_star_weight holds 1 / W.
   if (q != 0.0) {
-    energy += 0.5 / q * accumulator.cwiseAbs2().dot(inverse_star_weight_);
+    energy += 0.5 / q * accumulator.cwiseAbs2().dot(dispersion_.inverse_star_weight);
   }
   const auto& edges = model_->correction_edges();
   for (std::size_t e = 0; e < edges.size(); ++e) {
@@ -64,14 +64,14 @@ void ForceEvaluator::LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& posit
   const auto& k = model_->spring_stiffness();
   for (int s = 0; s < model_->num_springs(); ++s) {
     const Eigen::Vector3d r = positions.col(b[s]) - positions.col(a[s]);
-    lengths_[s] = r.norm();
-    directions_.col(s) = r / lengths_[s];
-    tangent_stiffness_[s] = law.TangentStiffness(k[s], rest[s], lengths_[s]);
+    per_spring_.lengths[s] = r.norm();
+    per_spring_.directions.col(s) = r / per_spring_.lengths[s];
+    per_spring_.tangent_stiffness[s] = law.TangentStiffness(k[s], rest[s], per_spring_.lengths[s]);
   }
 }
 
 void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiffness geometric) {
-  if (scheduled_) {
+  if (runs_.springs) {
     LinearizeScheduled(positions, geometric == GeometricStiffness::kDropCompression);
   } else {
     LinearizePerSpring(positions, geometric);
@@ -88,41 +88,41 @@ void ForceEvaluator::LinearizePerSpring(const Eigen::Matrix3Xd& positions,
                                         GeometricStiffness geometric) {
   // The total tensions at `positions`, keeping the dispersion g of the caller's last evaluation.
   // Without a schedule there are no single-precision springs: this evaluation is in double.
-  const Eigen::VectorXd saved_dispersion = dispersion_per_weight_;
+  const Eigen::VectorXd saved_dispersion = dispersion_.per_weight;
   Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
   AccumulateForces(positions, &scratch);
-  dispersion_per_weight_ = saved_dispersion;
+  dispersion_.per_weight = saved_dispersion;
   const int count = model_->num_springs();
-  directions_.resize(3, count);
-  lengths_.resize(count);
-  tangent_stiffness_.resize(count);
+  per_spring_.directions.resize(3, count);
+  per_spring_.lengths.resize(count);
+  per_spring_.tangent_stiffness.resize(count);
   internal::VisitSpringLaw(*model_, [&](const auto& law) { LinearizeImpl(law, positions); });
-  geometric_tensions_ =
+  per_spring_.geometric_tensions =
       geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
 }
 
 void ForceEvaluator::RoundLinearization() {
   // Per spring in schedule order: k, inflow a and b, outflow a and b (once), then u and T / L.
-  const ScheduledSprings springs = scheduled_->View();
+  const ScheduledSprings springs = runs_.springs->View();
   const Eigen::Index count = model_->num_springs();
-  if (single_stiffness_.size() != 9 * count) {
-    single_stiffness_.resize(9 * count);
+  if (single_loops_.stiffness.size() != 9 * count) {
+    single_loops_.stiffness.resize(9 * count);
     const double* fixed[5] = {springs.stiffness, springs.inflow_a, springs.inflow_b,
                               springs.outflow_a, springs.outflow_b};
     for (int block = 0; block < 5; ++block) {
       for (Eigen::Index s = 0; s < count; ++s) {
-        single_stiffness_[block * count + s] = static_cast<float>(fixed[block][s]);
+        single_loops_.stiffness[block * count + s] = static_cast<float>(fixed[block][s]);
       }
     }
   }
-  single_stiffness_.tail(4 * count) = scheduled_linearization_.cast<float>();
+  single_loops_.stiffness.tail(4 * count) = runs_.linearization.cast<float>();
 }
 
 void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
                                               Eigen::Matrix3Xd* out) const {
   const Eigen::Index n = model_->num_nodes();
   const Eigen::Index count = model_->num_springs();
-  const std::vector<SpringRun>& runs = scheduled_->schedule.runs;
+  const std::vector<SpringRun>& runs = runs_.springs->schedule.runs;
   // As the force loops: up to max_threads shares for 1,000 nodes or more. Each share takes a
   // contiguous part of the runs (about equal in springs) and sums into its own K dv and dJ,
   // added in share order: the sums depend on the thread count only.
@@ -137,12 +137,12 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
   // dv as float x, y, z blocks of N, then per share its K dv at the a ends and at the b ends
   // (3 N each) and its dJ at the a ends and at the b ends (N each).
   constexpr int kPart = 8;
-  single_stiffness_arrays_.resize(3 * n + kPart * n * shares);
-  float* dv = single_stiffness_arrays_.data();
+  single_loops_.stiffness_arrays.resize(3 * n + kPart * n * shares);
+  float* dv = single_loops_.stiffness_arrays.data();
   const auto part = [dv, n](int t) { return dv + 3 * n + kPart * n * t; };
   const double zero[3] = {0.0, 0.0, 0.0};
   ToSingleNodeArrays(v.data(), n, 0, n, zero, dv);
-  const float* data = single_stiffness_.data();
+  const float* data = single_loops_.stiffness.data();
   const SingleScheduledStiffness springs{runs.data(),      data,
                                          data + count,     data + 2 * count,
                                          data + 3 * count, data + 4 * count,
@@ -163,7 +163,7 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
       for (Eigen::Index i = 0; i < n; ++i) dg[i] += dj[i] + dj[n + i];
     }
     for (Eigen::Index i = 0; i < n; ++i) {
-      dg[i] = static_cast<float>(dg[i] * inverse_star_weight_[i]);  // dg = dJ / W
+      dg[i] = static_cast<float>(dg[i] * dispersion_.inverse_star_weight[i]);  // dg = dJ / W
     }
     internal::SharePlan::Run(shares, [&](int t) {
       SingleDispersedStiffnessRuns(springs, first_run[t], first_run[t + 1], dg, n, part(t));
@@ -180,31 +180,31 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
 }
 
 void ForceEvaluator::ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
-  if (single_) {
+  if (single_loops_.springs) {
     ApplySingleStiffnessRuns(v, out);
     return;
   }
   const Eigen::Index n = model_->num_nodes();
   // dv, then the product at the a ends and at the b ends, x, y, z blocks of N each.
-  stiffness_arrays_.resize(9 * n);
-  double* dv = stiffness_arrays_.data();
+  runs_.stiffness_arrays.resize(9 * n);
+  double* dv = runs_.stiffness_arrays.data();
   double* product = dv + 3 * n;
   ToNodeArrays(v.data(), n, dv);
   std::fill(product, product + 6 * n, 0.0);
-  const ScheduledSprings springs = scheduled_->View();
-  const int runs = static_cast<int>(scheduled_->schedule.runs.size());
+  const ScheduledSprings springs = runs_.springs->View();
+  const int runs = static_cast<int>(runs_.springs->schedule.runs.size());
   const ScheduledLinearization linearization =
-      ScheduledLinearization::Of(scheduled_linearization_.data(), model_->num_springs());
+      ScheduledLinearization::Of(runs_.linearization.data(), model_->num_springs());
   const MutableNodeArrays a_ends{product, product + n, product + 2 * n};
   const MutableNodeArrays b_ends{product + 3 * n, product + 4 * n, product + 5 * n};
   const bool disperse = model_->dispersion_fraction() != 0.0;
-  if (disperse) accumulator_change_.setZero(2 * n);
-  double* change = accumulator_change_.data();
+  if (disperse) runs_.accumulator_change.setZero(2 * n);
+  double* change = runs_.accumulator_change.data();
   StiffnessRuns(springs, 0, runs, linearization, {dv, dv + n, dv + 2 * n}, a_ends, b_ends,
                 disperse ? change : nullptr, disperse ? change + n : nullptr);
   if (disperse) {
     for (Eigen::Index i = 0; i < n; ++i) {
-      change[i] = (change[i] + change[n + i]) * inverse_star_weight_[i];  // dg = dJ / W
+      change[i] = (change[i] + change[n + i]) * dispersion_.inverse_star_weight[i];  // dg = dJ / W
     }
     DispersedStiffnessRuns(springs, 0, runs, linearization, change, a_ends, b_ends);
   }
@@ -221,7 +221,7 @@ void ForceEvaluator::ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd*
 }
 
 void ForceEvaluator::ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const {
-  if (scheduled_) {
+  if (runs_.springs) {
     ApplyStiffnessRuns(v, out);
     return;
   }
@@ -235,24 +235,26 @@ void ForceEvaluator::ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matr
   // du = (dv - u (u . dv)) / L. K v = -d(force).
   for (int s = 0; s < model_->num_springs(); ++s) {
     const Eigen::Vector3d dv = v.col(b[s]) - v.col(a[s]);
-    const Eigen::Vector3d u = directions_.col(s);
+    const Eigen::Vector3d u = per_spring_.directions.col(s);
     const double stretch_rate = u.dot(dv);
-    const double dt = tangent_stiffness_[s] * stretch_rate;
+    const double dt = per_spring_.tangent_stiffness[s] * stretch_rate;
     const Eigen::Vector3d df =
-        dt * u + (geometric_tensions_[s] / lengths_[s]) * (dv - u * stretch_rate);
+        dt * u +
+        (per_spring_.geometric_tensions[s] / per_spring_.lengths[s]) * (dv - u * stretch_rate);
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
     if (disperse) {
-      accumulator_change[a[s]] += inflow_a_[s] * dt;
-      accumulator_change[b[s]] += inflow_b_[s] * dt;
+      accumulator_change[a[s]] += dispersion_.inflow_a[s] * dt;
+      accumulator_change[b[s]] += dispersion_.inflow_b[s] * dt;
     }
   }
   ApplyCorrectionStiffness(v, out);
   if (!disperse) return;
-  const Eigen::VectorXd dg = accumulator_change.cwiseProduct(inverse_star_weight_);
+  const Eigen::VectorXd dg = accumulator_change.cwiseProduct(dispersion_.inverse_star_weight);
   for (int s = 0; s < model_->num_springs(); ++s) {
-    const double dt_dispersed = outflow_a_[s] * dg[a[s]] + outflow_b_[s] * dg[b[s]];
-    const Eigen::Vector3d df = dt_dispersed * directions_.col(s);
+    const double dt_dispersed =
+        dispersion_.outflow_a[s] * dg[a[s]] + dispersion_.outflow_b[s] * dg[b[s]];
+    const Eigen::Vector3d df = dt_dispersed * per_spring_.directions.col(s);
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
   }
@@ -270,13 +272,13 @@ void ForceEvaluator::ApplyCorrectionStiffness(const Eigen::Matrix3Xd& v,
     double rate[3] = {0.0, 0.0, 0.0};
     for (int i = 0; i < 12; ++i) {
       const SpringIndex s = edges[e][i];
-      rate[i / 4] += directions_.col(s).dot(v.col(b[s]) - v.col(a[s]));
+      rate[i / 4] += per_spring_.directions.col(s).dot(v.col(b[s]) - v.col(a[s]));
     }
     const double sum = rate[0] + rate[1] + rate[2];
     for (int i = 0; i < 12; ++i) {
       const SpringIndex s = edges[e][i];
-      const Eigen::Vector3d df =
-          model_->correction_coefficients()[e] * (sum - rate[i / 4]) * directions_.col(s);
+      const Eigen::Vector3d df = model_->correction_coefficients()[e] * (sum - rate[i / 4]) *
+                                 per_spring_.directions.col(s);
       out->col(a[s]) -= df;
       out->col(b[s]) += df;
     }
@@ -290,7 +292,7 @@ Eigen::Matrix3Xd ForceEvaluator::StiffnessDiagonal() const {
 }
 
 Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
-  if (scheduled_) return ScheduledStiffnessDiagonal();
+  if (runs_.springs) return ScheduledStiffnessDiagonal();
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const bool disperse = model_->dispersion_fraction() != 0.0;
@@ -301,26 +303,28 @@ Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
   Eigen::Matrix3Xd s1 = Eigen::Matrix3Xd::Zero(3, n);
   Eigen::Matrix3Xd s2 = Eigen::Matrix3Xd::Zero(3, n);
   for (int s = 0; s < model_->num_springs(); ++s) {
-    const Eigen::Vector3d u = directions_.col(s);
+    const Eigen::Vector3d u = per_spring_.directions.col(s);
     const Eigen::Vector3d u2 = u.cwiseProduct(u);
-    const double kt = tangent_stiffness_[s];
-    const double geometric = geometric_tensions_[s] / lengths_[s];
+    const double kt = per_spring_.tangent_stiffness[s];
+    const double geometric = per_spring_.geometric_tensions[s] / per_spring_.lengths[s];
     const Eigen::Vector3d block = kt * u2 + geometric * (Eigen::Vector3d::Ones() - u2);
     diagonal.col(a[s]) += block;
     diagonal.col(b[s]) += block;
     if (disperse) {
       // And through J of the other end, which holds this spring's own inflow.
-      diagonal.col(a[s]) += kt * outflow_b_[s] * inflow_b_[s] * inverse_star_weight_[b[s]] * u2;
-      diagonal.col(b[s]) += kt * outflow_a_[s] * inflow_a_[s] * inverse_star_weight_[a[s]] * u2;
-      s1.col(a[s]) += outflow_a_[s] * u;
-      s1.col(b[s]) -= outflow_b_[s] * u;
-      s2.col(a[s]) += inflow_a_[s] * kt * u;
-      s2.col(b[s]) -= inflow_b_[s] * kt * u;
+      diagonal.col(a[s]) += kt * dispersion_.outflow_b[s] * dispersion_.inflow_b[s] *
+                            dispersion_.inverse_star_weight[b[s]] * u2;
+      diagonal.col(b[s]) += kt * dispersion_.outflow_a[s] * dispersion_.inflow_a[s] *
+                            dispersion_.inverse_star_weight[a[s]] * u2;
+      s1.col(a[s]) += dispersion_.outflow_a[s] * u;
+      s1.col(b[s]) -= dispersion_.outflow_b[s] * u;
+      s2.col(a[s]) += dispersion_.inflow_a[s] * kt * u;
+      s2.col(b[s]) -= dispersion_.inflow_b[s] * kt * u;
     }
   }
   if (disperse) {
     for (int i = 0; i < n; ++i) {
-      diagonal.col(i) += inverse_star_weight_[i] * s1.col(i).cwiseProduct(s2.col(i));
+      diagonal.col(i) += dispersion_.inverse_star_weight[i] * s1.col(i).cwiseProduct(s2.col(i));
     }
   }
   // Correction: at a node, an edge along one axis responds to the elongation of the element's
@@ -335,8 +339,8 @@ Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
         const SpringIndex sg = edges[e][g];
         for (const NodeIndex node : {a[sf], b[sf]}) {
           if (node != a[sg] && node != b[sg]) continue;
-          const Eigen::Vector3d wf = (node == a[sf] ? 1.0 : -1.0) * directions_.col(sf);
-          const Eigen::Vector3d wg = (node == a[sg] ? 1.0 : -1.0) * directions_.col(sg);
+          const Eigen::Vector3d wf = (node == a[sf] ? 1.0 : -1.0) * per_spring_.directions.col(sf);
+          const Eigen::Vector3d wg = (node == a[sg] ? 1.0 : -1.0) * per_spring_.directions.col(sg);
           diagonal.col(node) += model_->correction_coefficients()[e] * wf.cwiseProduct(wg);
         }
       }

@@ -179,7 +179,7 @@ void SingleEvaluation::ApplyForces(int t) {
                     f_ + (3 + d) * stride_);
   }
   const SingleShare& share = shares_[t];
-  const ForceEvaluator::NodeStages* stages = in_.stages;
+  const NodeStages* stages = in_.stages;
   if (stages != nullptr && stages->after_unstored && in_.barrier == nullptr) {
     stages->after_unstored(t, share.begin, share.end, f_, stride_);
     return;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 
+#include "mechanics/node_shares.h"
 #include "mechanics/share_plan.h"
 #include "mechanics/single_precision_kernels.h"
 #include "msm_sim/mechanics/cache_line_allocator.h"
@@ -16,12 +17,12 @@ struct SingleInputs {
   const Model* model;
   const SinglePrecisionSprings* springs;
   const Eigen::Matrix3Xd* positions;
-  const double* velocities;                  // 3 x N column-major; null: no dampers
-  double beta;                               // the dampers' beta (s)
-  const ForceEvaluator::NodeStages* stages;  // null: none
-  const OrientationBarrier* barrier;         // null: none
-  const double* inverse_star_weight;         // 1 / W per node (docs/physics.md §3)
-  bool overwrite;                            // store the forces (SetForces) rather than add them
+  const double* velocities;           // 3 x N column-major; null: no dampers
+  double beta;                        // the dampers' beta (s)
+  const NodeStages* stages;           // null: none
+  const OrientationBarrier* barrier;  // null: none
+  const double* inverse_star_weight;  // 1 / W per node (docs/physics.md §3)
+  bool overwrite;                     // store the forces (SetForces) rather than add them
 };
 
 /// Where it writes besides the forces: the barrier's forces (scratch).

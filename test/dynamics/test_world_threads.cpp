@@ -93,7 +93,7 @@ SharedRun RunSharedScene(int threads) {
 }
 
 // The explicit integrator's per-node stages (drift, restitution, kinematic placement, pushes,
-// kick) run on each node share's thread (ForceEvaluator::NodeStages). Two threads repeat
+// kick) run on each node share's thread (internal::NodeStages). Two threads repeat
 // bit for bit, and follow one thread to the float loops' rounding: the summation order differs
 // at the shares' boundary, and 60 ms of contact dynamics amplify that to nanometres (4e-9 m
 // measured), far below what a stage left out or applied twice gives (a push missed on one share

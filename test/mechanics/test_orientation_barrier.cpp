@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "expect_stiffness.h"
+#include "mechanics/node_shares.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/lattice/random_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
@@ -206,15 +207,14 @@ TEST(OrientationBarrier, AddedByEveryForceLoop) {
       Eigen::Matrix3Xd without, with;
       plain.SetForces(x, v, 1e-3, &without);
       std::atomic<int> staged{0};  // the stages run on the shares' threads
-      ForceEvaluator::NodeStages stages{[](int, int, int) {},
-                                        [&](int, int begin, int end) {
-                                          staged += end - begin;
-                                          // The barrier is in the forces the stage sees.
-                                          EXPECT_GT(with.middleCols(begin, end - begin).norm(),
-                                                    0.0);
-                                        },
-                                        {}};
-      guarded.SetForces(x, v, 1e-3, &with, stages);
+      internal::NodeStages stages{[](int, int, int) {},
+                                  [&](int, int begin, int end) {
+                                    staged += end - begin;
+                                    // The barrier is in the forces the stage sees.
+                                    EXPECT_GT(with.middleCols(begin, end - begin).norm(), 0.0);
+                                  },
+                                  {}};
+      internal::NodeShares::SetForces(&guarded, x, v, 1e-3, &with, stages);
       EXPECT_EQ(staged.load(), model.num_nodes());
       const double scale = without.norm();
       EXPECT_LT((with - without - barrier_forces).norm(), 1e-6 * scale)

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "mechanics/node_shares.h"
 #include "mechanics/single_precision_kernels.h"
 #include "msm_sim/lattice/cubic_lattice_builder.h"
 #include "msm_sim/mechanics/force_evaluator.h"
@@ -17,7 +18,7 @@
 namespace msm_sim::core {
 namespace {
 
-// Nodes rounded ahead (ForceEvaluator::RoundNodes, in two ranges) and NodeStages::rounded give
+// Nodes rounded ahead (internal::NodeShares::Round, in two ranges) and NodeStages::rounded give
 // the forces of the loops' own rounding relative to the same origin, to the bit, on one and two
 // threads, without calling `before`; with another origin the rounding, and so the forces, differ.
 TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRounding) {
@@ -32,22 +33,22 @@ TEST(SinglePrecisionEvaluator, NodesRoundedAheadGiveTheForcesOfTheLoopsOwnRoundi
     ForceEvaluator ahead(model, SpringKernels::kAuto, threads);
     own.set_precision(SpringPrecision::kSingle);
     ahead.set_precision(SpringPrecision::kSingle);
-    ASSERT_TRUE(ahead.RoundsNodes());
+    ASSERT_TRUE(internal::NodeShares::Rounds(ahead));
     std::atomic<int> befores{0};
-    ForceEvaluator::NodeStages stages;
+    internal::NodeStages stages;
     stages.before = [&](int, int, int) { ++befores; };
     stages.after = [](int, int, int) {};
     stages.origin = origin;
     Eigen::Matrix3Xd expected, first, rounded;
-    own.SetForces(x, v, 1e-3, &expected, stages);
+    internal::NodeShares::SetForces(&own, x, v, 1e-3, &expected, stages);
     EXPECT_GT(befores.load(), 0);
     ahead.SetForces(x, v, 1e-3, &first);  // sizes the node arrays (node 0 as origin)
     EXPECT_NE(first, expected) << "the origin changes the rounding";
-    ahead.RoundNodes(x, &v, 0, n / 3, origin);
-    ahead.RoundNodes(x, &v, n / 3, n, origin);
+    internal::NodeShares::Round(&ahead, x, &v, 0, n / 3, origin);
+    internal::NodeShares::Round(&ahead, x, &v, n / 3, n, origin);
     befores = 0;
     stages.rounded = true;
-    ahead.SetForces(x, v, 1e-3, &rounded, stages);
+    internal::NodeShares::SetForces(&ahead, x, v, 1e-3, &rounded, stages);
     EXPECT_EQ(befores.load(), 0) << threads;
     EXPECT_EQ(rounded, expected) << threads;
   }
@@ -89,8 +90,8 @@ Motion PerturbedMotion(const Model& model) {
 }
 
 // Stages that do nothing, rounding relative to `origin`.
-ForceEvaluator::NodeStages PlainStages(const double origin[3]) {
-  ForceEvaluator::NodeStages plain;
+internal::NodeStages PlainStages(const double origin[3]) {
+  internal::NodeStages plain;
   plain.before = [](int, int, int) {};
   plain.after = [](int, int, int) {};
   plain.origin = origin;
@@ -104,19 +105,19 @@ struct ExpectedForces {
 
 // Evaluates ExpectedForces with `own`, in that order.
 ExpectedForces FromScratch(ForceEvaluator& own, const Motion& m,
-                           const ForceEvaluator::NodeStages& plain) {
+                           const internal::NodeStages& plain) {
   ExpectedForces e;
-  own.SetForces(m.x, m.v, 1e-3, &e.now, plain);
-  own.SetForces(m.next_x, m.next_v, 1e-3, &e.next, plain);
-  own.SetForces(m.later_x, m.v, 1e-3, &e.later, plain);
-  own.SetForces(m.next_x, m.next_v, 2e-3, &e.other_dampers, plain);
+  internal::NodeShares::SetForces(&own, m.x, m.v, 1e-3, &e.now, plain);
+  internal::NodeShares::SetForces(&own, m.next_x, m.next_v, 1e-3, &e.next, plain);
+  internal::NodeShares::SetForces(&own, m.later_x, m.v, 1e-3, &e.later, plain);
+  internal::NodeShares::SetForces(&own, m.next_x, m.next_v, 2e-3, &e.other_dampers, plain);
   return e;
 }
 
 // The numbers of nodes of the first and of the last of `threads` node shares.
 std::pair<int, int> FirstAndLastShare(ForceEvaluator& evaluator, int threads) {
   int first = 0, last = 0;
-  evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+  internal::NodeShares::ForEach(&evaluator, [&](int share, int begin, int end) {
     if (share == 0) first = end - begin;
     if (share == threads - 1) last = end - begin;
   });
@@ -124,14 +125,14 @@ std::pair<int, int> FirstAndLastShare(ForceEvaluator& evaluator, int threads) {
 }
 
 // `plain` rounding m's next state ahead into *ahead, summing into *now, counting rounded nodes.
-ForceEvaluator::NodeStages RoundingAhead(const ForceEvaluator::NodeStages& plain,
-                                         ForceEvaluator* ahead, const Motion* m,
-                                         Eigen::Matrix3Xd* now, std::atomic<int>* rounded_nodes) {
-  ForceEvaluator::NodeStages first = plain;
+internal::NodeStages RoundingAhead(const internal::NodeStages& plain, ForceEvaluator* ahead,
+                                   const Motion* m, Eigen::Matrix3Xd* now,
+                                   std::atomic<int>* rounded_nodes) {
+  internal::NodeStages first = plain;
   const double* origin = plain.origin;
   first.after_unstored = [=](int, int begin, int end, const float* f, long stride) {
     SumUnstored(begin, end, f, stride, now);
-    ahead->RoundNodes(m->next_x, &m->next_v, begin, end, origin);
+    internal::NodeShares::Round(ahead, m->next_x, &m->next_v, begin, end, origin);
     *rounded_nodes += end - begin;
   };
   first.rounds_ahead = true;
@@ -153,7 +154,7 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
   const Model thin = ThinSlab();
   ASSERT_LT(thin.num_nodes() / 4, 40 * 40);  // a share is shorter than a layer
   const double origin[3] = {0.013, -0.002, 0.007};
-  // Shares cut with the first 400 nodes busy (CutNodeShares): the last share is then longer than
+  // Shares cut with the first 400 nodes busy (NodeShares::Cut): the last share is then longer than
   // the first and takes its extra nodes' dispersion and second pass ahead too.
   std::vector<NodeIndex> busy(400);
   std::iota(busy.begin(), busy.end(), 0);
@@ -174,36 +175,36 @@ TEST(SinglePrecisionEvaluator, AFirstPassTakenAheadGivesTheNextEvaluationsForces
     own.set_precision(SpringPrecision::kSingle);
     ahead.set_precision(SpringPrecision::kSingle);
     if (c.cut) {
-      own.CutNodeShares(busy, 2.0);
-      ahead.CutNodeShares(busy, 2.0);
+      internal::NodeShares::Cut(&own, busy, 2.0);
+      internal::NodeShares::Cut(&ahead, busy, 2.0);
       const auto [first, last] = FirstAndLastShare(ahead, threads);
       ASSERT_GT(last, first + 100) << threads;
     }
-    const ForceEvaluator::NodeStages plain = PlainStages(origin);
+    const internal::NodeStages plain = PlainStages(origin);
     const ExpectedForces expected = FromScratch(own, m, plain);
 
     Eigen::Matrix3Xd now(3, n), unused, next, later;
     std::atomic<int> rounded_nodes{0};
-    const ForceEvaluator::NodeStages first = RoundingAhead(plain, &ahead, &m, &now, &rounded_nodes);
-    ahead.SetForces(m.x, m.v, 1e-3, &unused, first);
+    const internal::NodeStages first = RoundingAhead(plain, &ahead, &m, &now, &rounded_nodes);
+    internal::NodeShares::SetForces(&ahead, m.x, m.v, 1e-3, &unused, first);
     ASSERT_EQ(rounded_nodes.load(), n);
     EXPECT_EQ(now, expected.now) << threads;
-    ForceEvaluator::NodeStages second = plain;
+    internal::NodeStages second = plain;
     second.rounded = true;
-    ahead.SetForces(m.next_x, m.next_v, 1e-3, &next, second);
+    internal::NodeShares::SetForces(&ahead, m.next_x, m.next_v, 1e-3, &next, second);
     EXPECT_EQ(next, expected.next) << threads;
     EXPECT_NE(next, expected.now) << "the nodes moved";
-    ahead.SetForces(m.later_x, m.v, 1e-3, &later, plain);
+    internal::NodeShares::SetForces(&ahead, m.later_x, m.v, 1e-3, &later, plain);
     EXPECT_EQ(later, expected.later) << threads;
     // The part taken ahead had this evaluation's dampers: with others next, it is taken again.
-    ahead.SetForces(m.x, m.v, 1e-3, &unused, first);
+    internal::NodeShares::SetForces(&ahead, m.x, m.v, 1e-3, &unused, first);
     Eigen::Matrix3Xd other_dampers;
-    ahead.SetForces(m.next_x, m.next_v, 2e-3, &other_dampers, second);
+    internal::NodeShares::SetForces(&ahead, m.next_x, m.next_v, 2e-3, &other_dampers, second);
     EXPECT_EQ(other_dampers, expected.other_dampers) << threads;
   }
 }
 
-// CutNodeShares: shares of equal work, a busy node counting 1 + busy_work; without busy nodes
+// NodeShares::Cut: shares of equal work, a busy node counting 1 + busy_work; without busy nodes
 // the equal shares of before. Every share keeps a node however the work falls.
 TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   const Model model = Block(0.45, 0.0035);
@@ -213,9 +214,9 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   evaluator.set_precision(SpringPrecision::kSingle);
   // The shares run on their own threads at once: each records its bounds in its own slot.
   const auto bounds = [&] {
-    const int shares = evaluator.NumNodeShares();
+    const int shares = internal::NodeShares::Count(evaluator);
     std::vector<int> begins(shares, -1), ends(shares, -1);
-    evaluator.ForEachNodeShare([&](int share, int begin, int end) {
+    internal::NodeShares::ForEach(&evaluator, [&](int share, int begin, int end) {
       begins[share] = begin;
       ends[share] = end;
     });
@@ -231,7 +232,7 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
   EXPECT_EQ(equal, (std::vector<int>{n / 3 / align * align, 2 * n / 3 / align * align, n}));
   std::vector<NodeIndex> busy(300);
   std::iota(busy.begin(), busy.end(), 100);  // nodes 100 .. 399
-  evaluator.CutNodeShares(busy, 2.0);
+  internal::NodeShares::Cut(&evaluator, busy, 2.0);
   const std::vector<int> cut = bounds();
   const double total = n + 2.0 * 300;
   const auto work_before = [&](int node) { return node + 2.0 * std::clamp(node - 100, 0, 300); };
@@ -242,11 +243,11 @@ TEST(SinglePrecisionEvaluator, CutNodeSharesGivesSharesOfEqualWork) {
     EXPECT_GT(work_before(cut[t] + align), total * (t + 1) / 3) << t;
   }
   EXPECT_EQ(cut[2], n);
-  evaluator.CutNodeShares({}, 2.0);
+  internal::NodeShares::Cut(&evaluator, {}, 2.0);
   EXPECT_EQ(bounds(), equal);
   std::vector<NodeIndex> all(n);
   std::iota(all.begin(), all.end(), 0);
-  evaluator.CutNodeShares(std::vector<NodeIndex>(all.begin(), all.begin() + 2), 1e9);
+  internal::NodeShares::Cut(&evaluator, std::vector<NodeIndex>(all.begin(), all.begin() + 2), 1e9);
   const std::vector<int> lopsided = bounds();  // the EXPECT_LTs above: no share left empty
   EXPECT_EQ(lopsided[0], SinglePrecisionSprings::kAlignment);
 }
@@ -268,7 +269,7 @@ TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
     Eigen::Matrix3Xd summed = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
     Eigen::Matrix3Xd untouched = Eigen::Matrix3Xd::Constant(3, model.num_nodes(), 7.0);
     std::atomic<int> afters{0}, sums{0};
-    ForceEvaluator::NodeStages stages;
+    internal::NodeStages stages;
     stages.before = [](int, int, int) {};
     stages.after = [&](int, int, int) { ++afters; };
     stages.after_unstored = [&](int, int begin, int end, const float* f, long stride) {
@@ -280,7 +281,7 @@ TEST(SinglePrecisionEvaluator, UnstoredForcesSumToTheStoredOnes) {
       }
       sums += end - begin;
     };
-    unstored.SetForces(x, v, 1e-3, &untouched, stages);
+    internal::NodeShares::SetForces(&unstored, x, v, 1e-3, &untouched, stages);
     EXPECT_EQ(sums.load(), model.num_nodes()) << threads;
     EXPECT_EQ(afters.load(), 0) << threads;
     EXPECT_EQ(summed, expected) << threads;

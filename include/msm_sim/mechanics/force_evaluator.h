@@ -18,6 +18,8 @@ struct ScheduledSpringData;
 struct SinglePrecisionSprings;
 
 namespace internal {
+class NodeShares;
+struct NodeStages;
 class SharePlan;
 class SinglePasses;
 
@@ -118,69 +120,6 @@ class ForceEvaluator {
   void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
                  double damping_beta, Eigen::Matrix3Xd* forces);
 
-  /// Per-node work a caller does around SetForces on each node share's own thread ("owner
-  /// computes": a share's nodes stay in its core's cache from one step to the next).
-  /// `before(share, begin, end)` may change the positions and velocities of share `share`'s nodes
-  /// [begin, end) before SetForces reads them; `after(share, begin, end)` runs once their forces
-  /// are set and may read or change those forces and velocities. Neither may touch other nodes.
-  /// Shares are numbered 0 .. NumNodeShares() - 1 in node order, as ForEachNodeShare numbers
-  /// them. Where the loops have no shares (double precision, models below 1,000 nodes,
-  /// one thread) they are called once, with (0, 0, N), before and after the evaluation.
-  ///
-  /// `after_unstored(share, begin, end, end_forces, stride)`, optional, replaces storing the
-  /// forces of nodes [begin, end) and `after` where the single-precision loops have no
-  /// orientation barrier: it gets the springs' forces unsummed, node i's being the sum over d of
-  /// the float end_forces[d * stride + i] (its a ends) and end_forces[(3 + d) * stride + i] (its
-  /// b ends; stride >= N, where each block starts a cache line), each taken
-  /// to double before adding (as *forces would hold it), for d = x, y, z, and must do what `after`
-  /// would with them. *forces is then left unset for those nodes. (The explicit kick fused with
-  /// the sums: the forces are not written to memory and read back.)
-  struct NodeStages {
-    std::function<void(int, int, int)> before;
-    std::function<void(int, int, int)> after;
-    std::function<void(int, int, int, const float*, long)> after_unstored;
-    /// Optional: the point (x, y, z, m) the single loops round positions relative to; a float
-    /// then resolves 6e-8 of a node's distance from it. Null: node 0's position at the call,
-    /// before `before` moves it.
-    const double* origin = nullptr;
-    /// The caller has already done what `before` would and rounded every node with RoundNodes
-    /// (relative to `origin`): the single loops skip `before` and their own rounding, one
-    /// hand-over between threads fewer. Precondition: RoundsNodes().
-    bool rounded = false;
-    /// The `after` stages round every node with RoundNodes (relative to `origin`) for the next
-    /// SetForces, which will then have `rounded`: the single loops take that evaluation's first
-    /// pass ahead, on each share once its `after` stage and those of the shares its springs
-    /// reach have run (one hand-over between threads fewer).
-    bool rounds_ahead = false;
-  };
-  /// SetForces with `stages` (both set) run on each share.
-  void SetForces(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd& velocities,
-                 double damping_beta, Eigen::Matrix3Xd* forces, const NodeStages& stages);
-  /// Runs task(share, begin, end) for each node share of SetForces' stages on its thread (one
-  /// share (0, 0, N) where there are none). Preconditions as for the stages.
-  void ForEachNodeShare(const std::function<void(int, int, int)>& task);
-  /// The number of shares ForEachNodeShare runs.
-  int NumNodeShares() const;
-  /// Cuts the node shares of the single loops at equal work, a node counting 1 and each node
-  /// of `busy` (sorted, distinct, each < the model's nodes) 1 + `busy_work` (>= 0): a share's
-  /// thread also runs its nodes' stages (NodeStages), and a node in contact costs the contact
-  /// stage about as much again as its springs and stages. Without busy nodes the shares are
-  /// equal. Either way the shares' bounds are multiples of SinglePrecisionSprings::kAlignment
-  /// (where the runs' aligned loads start), within that of equal work. The cut moves where the
-  /// float sums meet at share boundaries (their rounding; still a function of the shares only);
-  /// call it between evaluations, not from a stage.
-  void CutNodeShares(const std::vector<NodeIndex>& busy, double busy_work);
-  /// Whether the next SetForces takes the single-precision loops, whose node arrays RoundNodes
-  /// fills.
-  bool RoundsNodes() const { return UsesSingleLoops(); }
-  /// Rounds nodes [begin, end) of `positions` (relative to `origin`) and of `velocities` (null
-  /// for no dampers) into the single loops' node arrays, for the next SetForces with
-  /// NodeStages::rounded. Concurrent calls for disjoint ranges are safe, also from a stage of
-  /// the SetForces that runs now (its `after` stages read only the force arrays).
-  /// Precondition: RoundsNodes(), and a SetForces in single precision has run on this model.
-  void RoundNodes(const Eigen::Matrix3Xd& positions, const Eigen::Matrix3Xd* velocities, int begin,
-                  int end, const double origin[3]);
-
   /// Elastic energy at `positions` (J): the springs' energy plus the dispersion's potential
   /// Phi = sum_x J_x^2 / (2 q W_x) (plus the orientation barrier's, if set). Phi is exact for
   /// linear springs; with the carrier law the dispersion follows the small-strain stiffness, so Phi
@@ -228,7 +167,7 @@ class ForceEvaluator {
   void AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
                       Eigen::Matrix3Xd* forces);
   /// The double run kernels' eMSM first pass over the spring schedule: J per node into
-  /// accumulator_, from the positions as x, y, z blocks of N (`x_arrays`).
+  /// dispersion_.accumulator, from the positions as x, y, z blocks of N (`x_arrays`).
   void InflowRunsToAccumulator(const double* x_arrays);
   /// The single-precision loops (SpringPrecision::kSingle): internal::SinglePasses on the share
   /// plan's node shares.
@@ -236,6 +175,9 @@ class ForceEvaluator {
                         Eigen::Matrix3Xd* forces);
   /// Whether an evaluation now takes the single-precision loops.
   bool UsesSingleLoops() const;
+  // The node shares of the single loops and the stages run on them (src/mechanics/node_shares.h:
+  // the explicit integrator's, private to the library).
+  friend class internal::NodeShares;
 
   /// The per-spring reference loops (any model; force_evaluator_reference.cpp): plain or two-pass
   /// eMSM (docs/physics.md §3), then the Baudet elements.
@@ -279,48 +221,63 @@ class ForceEvaluator {
   /// SpringStiffnessDiagonal from the scheduled linearisation, over the runs.
   Eigen::Matrix3Xd ScheduledStiffnessDiagonal() const;
 
+  // The eMSM dispersion (docs/physics.md §3), whatever the loops: per spring, inflow q v L0 and
+  // outflow w / L0 = v k L0 at each end, so that t*_s = outflow_a g_a + outflow_b g_b; per node
+  // 1 / W and the last evaluation's J and g = J / W.
+  struct Dispersion {
+    Eigen::VectorXd inflow_a, inflow_b, outflow_a, outflow_b;
+    Eigen::VectorXd inverse_star_weight;
+    Eigen::VectorXd accumulator;  // J
+    Eigen::VectorXd per_weight;   // g = J / W
+  };
+  // The per-spring reference loops' arrays, in model order (models without a schedule).
+  struct PerSpringArrays {
+    Eigen::VectorXd tensions;         // direct tensions of the two-pass evaluation
+    Eigen::VectorXd inverse_lengths;  // 1 / L
+    // The linearisation: unit vectors a -> b, L, dt / dL and the geometric term's T.
+    Eigen::Matrix3Xd directions;
+    Eigen::VectorXd lengths, tangent_stiffness, geometric_tensions;
+  };
+  // The double run kernels (models with a schedule): the springs in schedule order and scratch.
+  struct DoubleRuns {
+    std::shared_ptr<const ScheduledSpringData> springs;  // null: no schedule
+    Eigen::VectorXd node_arrays;    // positions, velocities, forces as x, y, z blocks of N each
+    Eigen::VectorXd end_sums;       // the first pass: J / q at the a ends (N), then the b ends
+    Eigen::VectorXd totals;         // direct + dispersed tensions, schedule order
+    Eigen::VectorXd linearization;  // u and T / L, schedule order (Linearize)
+    mutable Eigen::VectorXd stiffness_arrays;  // dv and K dv as x, y, z blocks of N each
+    mutable Eigen::VectorXd accumulator_change;
+    mutable Eigen::VectorXd diagonal_arrays;  // ScheduledStiffnessDiagonal's sums, 9 blocks of N
+  };
+  // The single-precision loops (SpringPrecision::kSingle on a model with a schedule).
+  struct SingleLoops {
+    std::shared_ptr<const SinglePrecisionSprings> springs;  // null: not in single precision
+    // The stage pipeline with its float node arrays (single_pipeline.h).
+    internal::Copied<internal::SinglePasses> passes;
+    const internal::NodeStages* stages = nullptr;  // during NodeShares::SetForces
+    // The stiffness product, per spring in schedule order: k, inflow a and b, outflow a and b,
+    // then the linearisation's ux, uy, uz and T / L (RoundLinearization); and its scratch: dv
+    // and K dv as x, y, z blocks of N, then dJ (N).
+    Eigen::VectorXf stiffness;
+    mutable Eigen::VectorXf stiffness_arrays;
+  };
+  // The springs' total tensions (direct + dispersed) that total_tensions() returns, in model
+  // order; after a vectorised evaluation in DoubleRuns::totals until first asked for.
+  struct Totals {
+    mutable Eigen::VectorXd model_order;
+    mutable bool scheduled = false;
+    bool recorded = true;  // false after a single-precision evaluation
+  };
+
   const Model* model_;  // a pointer, so that evaluators (and their history) can be copied
-  // The share plan (threads, shares) and the single loops' stage pipeline with its node arrays.
-  internal::Copied<internal::SharePlan> plan_;
-  internal::Copied<internal::SinglePasses> single_passes_;
-  // Per spring, precomputed: inflow q v L0 at each end and outflow w / L0 = v k L0 at each end,
-  // so that t*_s = outflow_a g_a + outflow_b g_b with g = J / W per node.
-  Eigen::VectorXd inflow_a_, inflow_b_, outflow_a_, outflow_b_;
-  Eigen::VectorXd inverse_star_weight_;  // 1 / W per node
-  Eigen::VectorXd tensions_;             // direct tensions (per-spring two-pass), model order
-  Eigen::VectorXd inverse_lengths_;      // 1 / L (per-spring two-pass), model order
-  // Direct + dispersed, in model order. After a vectorised evaluation they are in
-  // scheduled_totals_ and copied here when first asked for.
-  mutable Eigen::VectorXd total_tensions_;
-  mutable bool totals_scheduled_ = false;
-  Eigen::VectorXd scheduled_totals_;
-  // Null unless the model suits the run kernels.
-  std::shared_ptr<const ScheduledSpringData> scheduled_;
-  Eigen::VectorXd node_arrays_;  // positions, velocities, forces as x, y, z blocks of N each
-  Eigen::VectorXd scheduled_linearization_;   // u and T / L in schedule order (Linearize)
-  mutable Eigen::VectorXd stiffness_arrays_;  // dv and K dv as x, y, z blocks of N each
-  mutable Eigen::VectorXd accumulator_change_;
-  Eigen::VectorXd geometric_tensions_;  // T of the geometric stiffness (per-spring path)
-  Eigen::VectorXd accumulator_;         // J per node
-  // The double run kernels' first pass: J / q at the springs' a ends (N), then at the b ends.
-  Eigen::VectorXd end_sums_;
-  Eigen::VectorXd dispersion_per_weight_;  // g = J / W of the last evaluation
-  // The per-spring linearisation (model order), filled only where there is no schedule.
-  Eigen::Matrix3Xd directions_;  // unit vectors a -> b
-  Eigen::VectorXd lengths_;
-  Eigen::VectorXd tangent_stiffness_;        // dt / dL per spring
-  mutable Eigen::VectorXd diagonal_arrays_;  // ScheduledStiffnessDiagonal's sums, 9 blocks of N
+  internal::Copied<internal::SharePlan> plan_;  // threads and shares
+  Dispersion dispersion_;
+  PerSpringArrays per_spring_;
+  DoubleRuns runs_;
+  SingleLoops single_loops_;
+  Totals totals_;
   SpringPrecision precision_ = SpringPrecision::kDouble;
-  bool totals_recorded_ = true;         // false after a single-precision evaluation
-  bool overwrite_forces_ = false;       // during SetForces
-  const NodeStages* stages_ = nullptr;  // during SetForces with stages, on the single loops
-  // Set while precision_ is kSingle and the model suits the run kernels.
-  std::shared_ptr<const SinglePrecisionSprings> single_;
-  // The stiffness product in single precision, per spring in schedule order: k, inflow a and b,
-  // outflow a and b, then the linearisation's ux, uy, uz and T / L (RoundLinearization); and
-  // its scratch: dv and K dv as x, y, z blocks of N, then dJ (N).
-  Eigen::VectorXf single_stiffness_;
-  mutable Eigen::VectorXf single_stiffness_arrays_;
+  bool overwrite_forces_ = false;                      // during SetForces
   std::shared_ptr<const OrientationBarrier> barrier_;  // null: none
   Eigen::Matrix3Xd barrier_forces_;     // the single loops' barrier forces, added per share
   Eigen::Matrix3Xd barrier_positions_;  // at the last Linearize
