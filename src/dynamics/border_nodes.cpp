@@ -44,12 +44,12 @@ BorderNodes FindBorderNodes(const Model& model, double imbalance) {
     }
     if (count >= 4 && sum.norm() <= imbalance * count) continue;
     // A node without springs still needs a size: half the model's node spacing. A cut cell's
-    // sphere ends halfway between the surface and the cell's outer face (docs/physics.md §7).
-    const double radius = (count > 0 ? half_lengths / count : 0.5 * model.characteristic_length()) -
-                          0.5 * model.surface_insets()[i];
-    if (radius <= 0.0) continue;
+    // sphere ends as far past the surface as a whole cell's past its face; a sliver whose centre
+    // lies outside keeps the floor sphere (docs/physics.md §7).
+    const double a = model.characteristic_length();
+    const double mean = count > 0 ? half_lengths / count : 0.5 * a;
     border.nodes.push_back(i);
-    border.radii.push_back(radius);
+    border.radii.push_back(std::max(mean - model.surface_insets()[i], kSliverRadius * a));
   }
   border.surface_shares = SurfaceShares(model, border.nodes);
   return border;

@@ -1,5 +1,6 @@
 #include "msm_sim/lattice/mesh_lattice_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -136,17 +137,31 @@ std::vector<double> AbsorbedSlivers(const CellRange& range, const std::vector<do
   return absorbed;
 }
 
-// Appends every kept cell to cells->coords with its fraction plus what it absorbed. Throws
+// How far the surface of `local` lies inside the outer face of the cell centred at `centre`
+// (docs/physics.md §7): a / 2 less the centre's signed depth below the surface (negative
+// outside), measured to the nearest surface point whatever the surface's slope; 0 where the
+// centre lies half a cell or more inside.
+double SurfaceInset(const SolidMesh& local, const Eigen::Vector3d& centre, double a) {
+  const double distance = (local.ClosestPoint(centre, nullptr) - centre).norm();
+  const double depth = local.Contains(centre) ? distance : -distance;
+  return std::max(0.0, 0.5 * a - depth);
+}
+
+// Appends every kept cell to cells->coords with its fraction plus what it absorbed, and the
+// surface inset of each cell the surface cuts (chi < 1 before absorbing). Throws
 // std::invalid_argument past the node budget.
-void CollectKeptCells(const CellRange& range, const std::vector<double>& fraction,
-                      const std::vector<double>& absorbed, const MeshCubicLatticeOptions& options,
-                      OccupiedCells* cells) {
+void CollectKeptCells(const SolidMesh& local, const CellRange& range,
+                      const std::vector<double>& fraction, const std::vector<double>& absorbed,
+                      const MeshCubicLatticeOptions& options, OccupiedCells* cells) {
+  const double a = cells->frame.unit;
   range.ForEachCell([&](const Eigen::Vector3i& c) {
     const double chi = fraction[range.Flat(c)];
     if (!Kept(chi, options.min_fraction)) return;
     CheckNodeBudget(static_cast<long long>(cells->coords.size()) + 1, options.lattice.max_nodes);
     cells->coords.push_back(c);
     cells->fractions.push_back(chi + absorbed[range.Flat(c)]);
+    const Eigen::Vector3d centre = a * (c.cast<double>() + cells->frame.offset);
+    cells->insets.push_back(chi < 1.0 ? SurfaceInset(local, centre, a) : 0.0);
   });
 }
 
@@ -165,7 +180,7 @@ OccupiedCells OccupiedCellsOf(const SolidMesh& solid, const MeshCubicLatticeOpti
   const CellRange range(cells.lo, cells.hi);
   const std::vector<double> fraction = CellFractions(local, cells.frame, range, options.antialias);
   const std::vector<double> absorbed = AbsorbedSlivers(range, fraction, options.min_fraction);
-  CollectKeptCells(range, fraction, absorbed, options, &cells);
+  CollectKeptCells(local, range, fraction, absorbed, options, &cells);
   if (cells.coords.empty()) {
     throw std::invalid_argument("no lattice cell of spacing " + std::to_string(a) +
                                 " m is inside the mesh; use a smaller spacing");

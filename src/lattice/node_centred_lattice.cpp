@@ -28,8 +28,9 @@ double AddCellNodes(const OccupiedCells& cells, double cell_mass, LatticeIndex* 
   double occupied = 0.0;
   for (int node = 0; node < n; ++node) {
     const double chi = cells.fractions[node];
-    // docs/physics.md §5: the surface crosses a partial cell (1 - chi) a inside its outer face.
-    const double inset = chi < 1.0 ? (1.0 - chi) * cells.frame.unit : 0.0;
+    // docs/physics.md §5, §7: the surface crosses a partial cell `inset` inside its outer face.
+    const double flat_cut = chi < 1.0 ? (1.0 - chi) * cells.frame.unit : 0.0;
+    const double inset = cells.insets.empty() ? flat_cut : cells.insets[node];
     index->At(cells.coords[node]) =
         builder->AddNode(cells.frame.Position(cells.coords[node]), cell_mass * chi, inset);
     occupied += chi;

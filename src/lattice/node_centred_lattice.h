@@ -23,6 +23,10 @@ struct OccupiedCells {
   Eigen::Vector3i lo, hi;  ///< integer range covering every coordinate below
   std::vector<Eigen::Vector3i> coords;
   std::vector<double> fractions;  ///< chi in (0, 1], same order as coords
+  /// Per coord (m, >= 0), Model::surface_insets: a / 2 less the cell centre's signed depth below
+  /// the body's surface for a cell the surface cuts, 0 for a whole cell (docs/physics.md §7).
+  /// Empty: (1 - chi) a for chi < 1, the flat-cut estimate.
+  std::vector<double> insets;
 };
 
 /// Throws std::invalid_argument for an anchored plane with a non-finite point or normal, or a

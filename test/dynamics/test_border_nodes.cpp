@@ -77,13 +77,12 @@ TEST(BorderNodes, SurfaceOfACubicLatticeWithMeanHalfSpringRadii) {
   }
 }
 
-// A lattice cut by a curved surface: no collision sphere stands a spacing proud of the others.
-// The cut cells' nodes lie up to half a spacing outside the surface; with the mean half-spring
-// radius alone a row of them stood a whole spacing past its neighbours' spheres and carried a
-// pad's squeeze by itself. Each sphere now ends halfway between the surface and its cell's outer
-// face (docs/physics.md §7): at most the largest mean half-length (half a face diagonal) less
-// half the thinnest cell (min_fraction 0.1) past the surface, within the flat-cut approximation.
-TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
+// A lattice cut by a curved surface: the collision spheres follow the surface (docs/physics.md
+// §7). A cut cell's sphere ends as far past the surface as a whole cell's past its face: its
+// mean half-spring less a / 2, at most half a face diagonal less a / 2 (plus the icosphere's
+// facets). A sliver whose centre lies outside the surface keeps the floor sphere, and only such
+// a node: the floor applies where the centre is less than kSliverRadius a inside.
+TEST(BorderNodes, SpheresOfACutLatticeFollowTheSurface) {
   const double radius = 1.0, a = 0.1;
   MeshCubicLatticeOptions options;
   options.lattice.spacing = a;
@@ -92,14 +91,22 @@ TEST(BorderNodes, SpheresOfACutLatticeEndNearTheSurface) {
   const BorderNodes border = FindBorderNodes(model);
   ASSERT_GT(border.nodes.size(), 100u);
   double farthest = -1.0;
+  int floored = 0;
   for (std::size_t k = 0; k < border.nodes.size(); ++k) {
-    ASSERT_GT(border.radii[k], 0.0);
-    const double past = model.rest_positions().col(border.nodes[k]).norm() + border.radii[k];
-    farthest = std::max(farthest, past - radius);
+    ASSERT_GE(border.radii[k], kSliverRadius * a * (1.0 - 1e-12));
+    const double outside = model.rest_positions().col(border.nodes[k]).norm() - radius;
+    if (border.radii[k] <= kSliverRadius * a * (1.0 + 1e-12)) {
+      ++floored;
+      EXPECT_GT(outside, -(kSliverRadius + 0.01) * a);
+      continue;
+    }
+    farthest = std::max(farthest, outside + border.radii[k]);
   }
-  std::printf("  farthest sphere past the surface: %.3f a\n", farthest / a);
-  EXPECT_LT(farthest, (0.5 * std::sqrt(2.0) - 0.05) * a);
+  std::printf("  farthest sphere above the floor past the surface: %.3f a; %d floor spheres\n",
+              farthest / a, floored);
+  EXPECT_LT(farthest, (0.5 * std::sqrt(2.0) - 0.5 + 0.01) * a);
   EXPECT_GT(farthest, 0.0);
+  EXPECT_GT(floored, 0);
   // Whole cells keep their radii: an aligned box has no insets.
   CubicLatticeOptions box;
   box.size = Eigen::Vector3d::Constant(0.4);

@@ -119,18 +119,19 @@ BounceRecord BounceBallForTenSeconds(const WorldOptions& world_options, double s
 // is reported, not bounded.
 //
 // That the ball keeps bouncing is checked on its first three rebounds, which the test prints
-// (each impact leaves more of the fall in vibration; removing the cut cells' slivers' spheres
-// halved them, docs/design/cut-cell-spheres.md). Later flights are chaotic: in some impacts of
-// the squashed ball a node comes within a few mm of the ground, far inside its collision radius,
-// and whether that happens turns on rounding, so the number of flights in 10 s is printed, not
-// tested.
+// (each impact leaves more of the fall in vibration, and how much turns on the cut cells'
+// collision spheres that meet the ground: removing the slivers' spheres halved the rebounds,
+// spheres that end at the surface lower them too; docs/design/cut-cell-spheres.md). Later flights
+// are chaotic: in some impacts of the squashed ball a node comes within a few mm of the ground, far
+// inside its collision radius, and whether that happens turns on rounding, so the number of flights
+// in 10 s is printed, not tested.
 TEST(Energy, ElasticBallBouncingForTenSecondsKeepsItsEnergy) {
   for (const SpringPrecision precision : {SpringPrecision::kSingle, SpringPrecision::kDouble}) {
     WorldOptions options;
     options.spring_precision = precision;
     const BounceRecord record = BounceBallForTenSeconds(options, 2e-4);
     ASSERT_GE(record.apexes.size(), 4u);  // the drop and three rebounds
-    for (int rebound = 1; rebound <= 3; ++rebound) EXPECT_GT(record.apexes[rebound], 0.5);
+    for (int rebound = 1; rebound <= 3; ++rebound) EXPECT_GT(record.apexes[rebound], 0.33);
     EXPECT_LT(record.worst_deviation, 0.01);
   }
 }

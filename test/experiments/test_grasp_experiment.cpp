@@ -138,9 +138,9 @@ TEST(GraspExperiment, NoFoldedCellsUnderAHardSqueeze) {
 
 // At 3 mm the lying cylinder's lattice has a row of cut cells whose nodes lie outside its
 // surface under each pad. With full collision spheres that row stood proud of the rest, carried
-// the whole squeeze and buckled, shooting nodes out; with spheres reduced by half their cell's
-// inset the squeeze spreads over the contact (docs/physics.md §7; the trace is in
-// docs/design/cut-cell-spheres.md).
+// the whole squeeze and buckled, shooting nodes out; with spheres reduced by their cell's inset
+// (ending at the surface, the slivers' at a small floor) the squeeze spreads over the contact
+// (docs/physics.md §7; the trace is in docs/design/cut-cell-spheres.md).
 TEST(GraspExperiment, NoSliverRowBucklesUnderAHardSqueeze) {
   const GraspExperimentResult r = Grasp("cylinder 4 x 6 cm, 3 mm, nu 0.49, outer layer 0.25",
                                         Object(LyingCylinder(0.02, 0.06), 0.003, 0.49, 0.25), 30.0);

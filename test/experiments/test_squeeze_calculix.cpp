@@ -113,14 +113,17 @@ Errors Compare(const SqueezeExperimentResult& result, const std::vector<Referenc
   return errors;
 }
 
-// F / F_CalculiX - 1 at the first row at or past this fraction of the diameter.
-double ErrorAt(const SqueezeExperimentResult& result, const std::vector<ReferenceRow>& reference,
-               double fraction) {
+// The largest |F / F_CalculiX - 1| over the rows with approach in [from, to] of the diameter.
+double LargestErrorBetween(const SqueezeExperimentResult& result,
+                           const std::vector<ReferenceRow>& reference, double from, double to) {
+  double largest = 0.0;
   for (const SqueezeSample& row : result.profile) {
-    if (row.approach < fraction * 2.0 * kRadius) continue;
-    return row.force / ReferenceAt(reference, row.approach).force - 1.0;
+    const double fraction = row.approach / (2.0 * kRadius);
+    if (fraction < from || fraction > to) continue;
+    largest =
+        std::max(largest, std::abs(row.force / ReferenceAt(reference, row.approach).force - 1.0));
   }
-  return 0.0;
+  return largest;
 }
 
 struct Case {
@@ -149,9 +152,10 @@ TEST(SqueezeCalculix, ReferenceSitsAboveHertzByAGapThatGrows) {
 }
 
 // Linear springs, 3 mm, to 30 %. What holds (docs/design/squeeze-vs-fem.md): the patch radius
-// within one spacing, the force within +80 % / -35 %, its excess at small approach (the
-// collision spheres' flattened envelope at the pole) fading as the patch grows. The 5 %
-// up to 10 % is not met.
+// within one spacing; the force within 7 % of CalculiX's from 4 % to 12 % of the diameter (the
+// collision spheres follow the surface, docs/physics.md §7), above it by less than 30 % below 4 %
+// (a patch of one or a few nodes), and below it by less than 35 % up to 30 % (the linear lattice
+// softens where the neo-Hookean solid stiffens). The 5 % up to 10 % is not met below 4 %.
 TEST(SqueezeCalculix, LinearSpringsAt3mm) {
   for (const Case& c : kCases) {
     SCOPED_TRACE("nu " + c.name);
@@ -161,27 +165,28 @@ TEST(SqueezeCalculix, LinearSpringsAt3mm) {
     ASSERT_GT(result.profile.size(), 25u);
     const Errors errors = Compare(result, reference, 0.30);
     EXPECT_LT(errors.radius, kSpacing);
-    EXPECT_LT(errors.force_max, 0.80);
+    EXPECT_LT(errors.force_max, 0.30);
     EXPECT_GT(errors.force_min, -0.35);
-    EXPECT_LT(ErrorAt(result, reference, 0.10), ErrorAt(result, reference, 0.02) - 0.15);
+    EXPECT_LT(LargestErrorBetween(result, reference, 0.04, 0.12), 0.07);
   }
 }
 
-// The power law fitted to the neo-Hookean uniaxial curve, 3 mm, to 9 %: beyond about 10 % the
-// explicit run diverges (docs/design/squeeze-vs-fem.md). The force within the linear springs'
-// bounds; the patch radius within 1.1 spacings (1.02 at nu 0.45: the one is missed).
-TEST(SqueezeCalculix, FittedPowerLawAt3mmTo9Percent) {
+// The power law fitted to the neo-Hookean uniaxial curve, 3 mm, to 12 %: beyond about 13 %
+// (nu 0.49) the explicit run loses stability (docs/design/squeeze-vs-fem.md). The force within
+// 12 % of CalculiX's, the patch radius within one spacing. The 5 % is not met: the force
+// dips below CalculiX's while the patch grows from one terrace to the next.
+TEST(SqueezeCalculix, FittedPowerLawAt3mmTo12Percent) {
   for (const Case& c : kCases) {
     SCOPED_TRACE("nu " + c.name);
     const TensileFitResult fit =
         FitNeoHookean(c.poisson, "neo_hookean_259kpa_nu" + c.name + "_tensile.csv");
     const auto reference = ReadReference("calculix_squeeze_nu" + c.name + ".csv");
-    const SqueezeExperimentResult result = SqueezeSphere(fit.youngs, c.poisson, &fit.law, 0.09);
+    const SqueezeExperimentResult result = SqueezeSphere(fit.youngs, c.poisson, &fit.law, 0.12);
     ASSERT_EQ(result.folded_corners, 0);
-    const Errors errors = Compare(result, reference, 0.09);
-    EXPECT_LT(errors.radius, 1.1 * kSpacing);
-    EXPECT_LT(errors.force_max, 0.80);
-    EXPECT_GT(errors.force_min, -0.35);
+    const Errors errors = Compare(result, reference, 0.12);
+    EXPECT_LT(errors.radius, kSpacing);
+    EXPECT_LT(errors.force_max, 0.12);
+    EXPECT_GT(errors.force_min, -0.12);
   }
 }
 

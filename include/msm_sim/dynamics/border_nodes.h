@@ -9,12 +9,18 @@
 
 namespace msm_sim::core {
 
+/// The smallest collision sphere, as a fraction of the model's characteristic length: the
+/// sphere of a sliver node whose centre lies outside the body (docs/physics.md §7).
+inline constexpr double kSliverRadius = 0.05;
+
 /// The nodes that carry collision spheres (docs/physics.md §7 "microcollisions") and their radii.
 struct BorderNodes {
   std::vector<NodeIndex> nodes;
-  /// m, the mean half-length of the node's springs less half its Model::surface_insets: a node
-  /// of a cell the surface cuts stands for the cell's inside part, and its sphere ends halfway
-  /// between the surface and the cell's outer face, where a whole cell's ends at its face
+  /// m, the mean half-length r of the node's springs less its Model::surface_insets, at least
+  /// kSliverRadius a (a the model's characteristic length): a node of a cell the surface cuts
+  /// stands for the cell's inside part, and its sphere ends as far past the body's surface as a
+  /// whole cell's ends past the cell's face (r - a / 2), so the spheres' envelope follows the
+  /// surface; a sliver whose centre lies outside the surface keeps the small floor sphere
   /// (docs/physics.md §7).
   std::vector<double> radii;
   /// m^2, the body's surface each node stands for in a flat contact (a contact patch's area is
@@ -33,8 +39,7 @@ struct BorderNodes {
 /// to its neighbours exceeds `imbalance` in length (0 for an interior node of a cubic lattice,
 /// 0.29 on a face; below 0.24 for every interior node of a random lattice with <S> = 22), or
 /// when it has fewer than 4 springs. Interior nodes cannot reach a surface without a border node
-/// touching it first, so only border nodes are tested. A node whose radius would not be positive
-/// carries no sphere (none does on the package's lattices: an inset is below a spacing).
+/// touching it first, so only border nodes are tested.
 /// Precondition: imbalance in (0, 1).
 BorderNodes FindBorderNodes(const Model& model, double imbalance = 0.25);
 

@@ -37,9 +37,12 @@ class Model {
   /// Node masses (kg).
   const Eigen::VectorXd& masses() const { return masses_; }
   /// Per node (m, >= 0): how far the body's surface lies inside the outer face of the node's
-  /// lattice cell, (1 - chi) a for a node-centred cell holding the fraction chi of its volume
-  /// (docs/physics.md §5); 0 for a whole cell and for lattices whose nodes are not cell centres.
-  /// Collision spheres shrink by it (FindBorderNodes, docs/physics.md §7).
+  /// lattice cell, a / 2 less the cell centre's depth below the surface (its distance to the
+  /// nearest surface point, negative outside) for a node-centred cell the surface cuts, at least
+  /// 0 (docs/physics.md §7); 0 for a whole cell and for lattices whose nodes are not cell
+  /// centres. Model files before the mesh builder measured the depth hold the flat-cut estimate
+  /// (1 - chi) a (the same on a cut parallel to a face). Collision spheres shrink by it
+  /// (FindBorderNodes, docs/physics.md §7).
   const Eigen::VectorXd& surface_insets() const { return surface_insets_; }
 
   /// Spring end points: spring s joins spring_node_a()[s] and spring_node_b()[s].
