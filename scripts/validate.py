@@ -160,11 +160,11 @@ class Validation:
             sphere = ("squeeze", "--shape", "sphere", "--radius", 0.025, "--spacing", 0.003,
                       "--poisson", poisson, "--density", 1100)
             linear = self.run(*sphere, "--youngs", 259e3, "--approach", 0.015)["profile"]
-            # The fitted law only as far as it stays finite (docs/design/squeeze-vs-fem.md).
+            # The fitted law only as far as it stays stable (docs/design/squeeze-vs-fem.md).
             power = self.run(*sphere, "--youngs", fit["youngs"], "--spring", "power",
                              "--alpha", fit["alpha"], "--beta", fit["beta"],
-                             "--approach", 0.0045)["profile"]
-            for fraction in (0.01, 0.02, 0.05, 0.09, 0.2, 0.3):
+                             "--approach", 0.0062)["profile"]
+            for fraction in (0.01, 0.02, 0.05, 0.09, 0.12, 0.2, 0.3):
                 approach = fraction * 0.05
                 force = min(ccx, key=lambda row: abs(row[0] - approach))[1]
                 hertz = 4 / 3 * 259e3 / (1 - poisson ** 2) * 0.025 ** 0.5 * (approach / 2) ** 1.5
@@ -185,7 +185,7 @@ class Validation:
             "`msm_lab squeeze`: a 5 cm sphere, E = 259 kPa, a = 3 mm, frictionless plates, "
             "against the axisymmetric neo-Hookean CalculiX curves of `test/data/` "
             "(`scripts/calculix_squeeze.py`), with linear springs and with the power law "
-            "`msm_lab fit --tensile` finds on the same material's uniaxial curve (run to 9 %). "
+            "`msm_lab fit --tensile` finds on the same material's uniaxial curve (run to 12 %). "
             "Hertz for two contacts in series checks the small-approach trend. The issue's 5 % "
             "is not met; why: [design/squeeze-vs-fem.md](design/squeeze-vs-fem.md).",
             rows, ("ν", "approach", "CalculiX (N)", "linear", "fitted power law", "Hertz"),
