@@ -62,6 +62,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/node_shares.cpp
   ${MSM_SIM_DIR}/src/mechanics/momentum_flow.cpp
   ${MSM_SIM_DIR}/src/mechanics/orientation_barrier.cpp
+  ${MSM_SIM_DIR}/src/mechanics/orientation_barrier_tracking.cpp
   ${MSM_SIM_DIR}/src/mechanics/share_plan.cpp
   ${MSM_SIM_DIR}/src/mechanics/single_pipeline.cpp
   ${MSM_SIM_DIR}/src/mechanics/spring_schedule.cpp

@@ -29,6 +29,7 @@ if(CATKIN_ENABLE_TESTING)
     test/mechanics/test_worker_pool.cpp
     test/mechanics/test_stable_time_step.cpp
     test/mechanics/test_orientation_barrier.cpp
+    test/mechanics/test_orientation_barrier_tracking.cpp
     test/experiments/test_measurements.cpp
     test/experiments/test_indentation_experiment.cpp
     test/experiments/test_indentation_fit.cpp

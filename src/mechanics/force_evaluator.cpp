@@ -97,6 +97,7 @@ ForceEvaluator::~ForceEvaluator() = default;
 
 void ForceEvaluator::set_orientation_barrier(std::shared_ptr<const OrientationBarrier> barrier) {
   barrier_ = std::move(barrier);
+  barrier_reference_ = BarrierReference{};
   single_loops_.passes->ForgetAhead();
 }
 
@@ -175,7 +176,9 @@ void ForceEvaluator::Accumulate(const Eigen::Matrix3Xd& positions, const Damping
     AccumulateRuns(positions, damping, forces);
   }
   // The single-precision loops add the barrier on each share, before its `after` stage.
-  if (barrier_ && !single_loops_.springs) barrier_->AccumulateForces(positions, forces);
+  if (barrier_ && !single_loops_.springs) {
+    barrier_->AccumulateForces(positions, forces, &barrier_reference_);
+  }
 }
 
 void ForceEvaluator::AccumulateRuns(const Eigen::Matrix3Xd& positions, const Damping& damping,
@@ -235,7 +238,7 @@ void ForceEvaluator::AccumulateSingle(const Eigen::Matrix3Xd& positions, const D
                                   damping.beta,     single_loops_.stages,
                                   barrier_.get(),   dispersion_.inverse_star_weight.data(),
                                   overwrite_forces_};
-  const internal::SingleOutputs out{forces, &barrier_forces_};
+  const internal::SingleOutputs out{forces, &barrier_forces_, &barrier_reference_};
   single_loops_.passes->Evaluate(*plan_, in, out);
   totals_.recorded = false;
   totals_.scheduled = false;

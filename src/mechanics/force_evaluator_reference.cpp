@@ -159,7 +159,7 @@ void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
     internal::VisitSpringLaw(
         *model_, [&](const auto& law) { PlainPass<Damped>(law, positions, damping, forces); });
     if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
-    if (barrier_) barrier_->AccumulateForces(positions, forces);
+    if (barrier_) barrier_->AccumulateForces(positions, forces, &barrier_reference_);
     return;
   }
   // Two passes: the direct tensions fill the accumulators, then every spring applies its direct
@@ -168,7 +168,7 @@ void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
   dispersion_.per_weight = dispersion_.accumulator.cwiseProduct(dispersion_.inverse_star_weight);
   OutflowPass<Damped>(positions, damping, forces);
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
-  if (barrier_) barrier_->AccumulateForces(positions, forces);
+  if (barrier_) barrier_->AccumulateForces(positions, forces, &barrier_reference_);
 }
 
 void ForceEvaluator::AccumulatePerSpring(const Eigen::Matrix3Xd& positions, const Damping& damping,

@@ -78,7 +78,7 @@ void ForceEvaluator::Linearize(const Eigen::Matrix3Xd& positions, GeometricStiff
   }
   if (barrier_) {
     barrier_positions_ = positions;
-    barrier_active_ = barrier_->ActiveCorners(positions);
+    barrier_active_ = barrier_->ActiveCorners(positions, &barrier_reference_);
     // Like compressed springs' geometric term, the barrier's curvature can make K indefinite.
     barrier_curvature_ = geometric == GeometricStiffness::kExact;
   }

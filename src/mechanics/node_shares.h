@@ -22,8 +22,8 @@ namespace msm_sim::core::internal {
 /// one thread) they are called once, with (0, 0, N), before and after the evaluation.
 ///
 /// `after_unstored(share, begin, end, end_forces, stride)`, optional, replaces storing the
-/// forces of nodes [begin, end) and `after` where the single-precision loops have no
-/// orientation barrier: it gets the springs' forces unsummed, node i's being the sum over d of
+/// forces of nodes [begin, end) and `after` where the single-precision loops add no
+/// barrier forces: it gets the springs' forces unsummed, node i's being the sum over d of
 /// the float end_forces[d * stride + i] (its a ends) and end_forces[(3 + d) * stride + i] (its
 /// b ends; stride >= N, where each block starts a cache line), each taken to double before
 /// adding (as *forces would hold it), for d = x, y, z, and must do what `after` would with them.

@@ -10,27 +10,17 @@
 
 #include <Eigen/Geometry>
 
+#include "mechanics/barrier_corner.h"
 #include "mechanics/simd_clones.h"
 
 namespace msm_sim::core {
 namespace {
 
-struct Corner {
-  Eigen::Vector3d e[3];         // current edges from the apex
-  Eigen::Vector3d gradient[4];  // dJ / dx of apex, ends 1, 2, 3
-  double ratio = 0.0;           // J
-};
+using Corner = internal::BarrierCorner;
 
 Corner Evaluate(const Eigen::Matrix3Xd& x, const std::array<NodeIndex, 4>& nodes,
                 double inverse_rest_det) {
-  Corner c;
-  for (int i = 0; i < 3; ++i) c.e[i] = x.col(nodes[i + 1]) - x.col(nodes[0]);
-  c.gradient[1] = inverse_rest_det * c.e[1].cross(c.e[2]);
-  c.gradient[2] = inverse_rest_det * c.e[2].cross(c.e[0]);
-  c.gradient[3] = inverse_rest_det * c.e[0].cross(c.e[1]);
-  c.gradient[0] = -(c.gradient[1] + c.gradient[2] + c.gradient[3]);
-  c.ratio = c.e[0].dot(c.gradient[1]);
-  return c;
+  return internal::EvaluateBarrierCorner(x, nodes, inverse_rest_det);
 }
 
 // J of `count` corners whose apexes are consecutive nodes from `apex` and whose ends are at
@@ -116,6 +106,7 @@ OrientationBarrier::OrientationBarrier(const Model& model, double modulus, doubl
     }
   }
   SortIntoRuns();
+  IndexCornersByNode(model.num_nodes());
 }
 
 void OrientationBarrier::SortIntoRuns() {

@@ -54,6 +54,7 @@ class SingleEvaluation {
   }
   int LastRead(int t) const;
   void Round(int t);
+  void Barrier();
   void Clear(int t, float* nodes, int blocks, int first, int last);
   void ClearSums(int t, float* a_ends, int blocks, int first, int last);
   void ApplyForces(int t);
@@ -82,6 +83,7 @@ class SingleEvaluation {
   SingleEndForces end_forces_;
   float beta_;
   bool dispersion_, rounded_, inflowed_, ahead_;
+  bool barrier_added_ = false;  // the barrier added forces in this evaluation
   int early_from_;
   long length_;           // the longest overflow: the schedule's largest offset
   long overflow_stride_;  // blocks start a cache line
@@ -121,7 +123,7 @@ SingleEvaluation::SingleEvaluation(SinglePasses* passes, const SharePlan& plan,
   const bool same_dampers = taken.beta == (in.velocities != nullptr ? beta_ : 0.0f);
   early_from_ = taken_ahead && same_dampers ? taken.early_from : -1;
   passes_.ahead_ = SinglePasses::TakenAhead{};
-  ahead_ = in.stages != nullptr && in.stages->rounds_ahead && in.barrier == nullptr;
+  ahead_ = in.stages != nullptr && in.stages->rounds_ahead;
   length_ = springs_.max_offset;
   overflow_stride_ = WholeCacheLinesOfFloats(length_);
   passes_.overflows_.resize(4 * overflow_stride_ * count_);
@@ -171,8 +173,18 @@ void SingleEvaluation::ClearSums(int t, float* a_ends, int blocks, int first, in
   }
 }
 
+// The barrier's forces at the positions every share's `before` stage has left, in double
+// (docs/physics.md §4), into barrier_forces, zero unless the last evaluation's barrier added some.
+void SingleEvaluation::Barrier() {
+  Eigen::Matrix3Xd& forces = *out_.barrier_forces;
+  if (passes_.barrier_added_ || forces.cols() != n_) forces.setZero(3, n_);
+  barrier_added_ =
+      in_.barrier->AccumulateForces(*in_.positions, &forces, out_.barrier_reference) > 0;
+  passes_.barrier_added_ = barrier_added_;
+}
+
 // The b ends' overflows gathered, then the forces handed to the caller's `after_unstored`, or
-// stored or added (with the barrier's) before its `after`.
+// stored or added (with the barrier's, where it added any) before its `after`.
 void SingleEvaluation::ApplyForces(int t) {
   for (int d = 0; d < 3; ++d) {
     GatherOverflows(Overflow(0, d), 4 * overflow_stride_, length_, shares_, t,
@@ -180,7 +192,7 @@ void SingleEvaluation::ApplyForces(int t) {
   }
   const SingleShare& share = shares_[t];
   const NodeStages* stages = in_.stages;
-  if (stages != nullptr && stages->after_unstored && in_.barrier == nullptr) {
+  if (stages != nullptr && stages->after_unstored && !barrier_added_) {
     stages->after_unstored(t, share.begin, share.end, f_, stride_);
     return;
   }
@@ -190,7 +202,7 @@ void SingleEvaluation::ApplyForces(int t) {
   } else {
     AddSingleEndForces(f_, stride_, share.begin, share.end, forces);
   }
-  if (in_.barrier != nullptr) {
+  if (barrier_added_) {
     out_.forces->middleCols(share.begin, share.end - share.begin) +=
         out_.barrier_forces->middleCols(share.begin, share.end - share.begin);
   }
@@ -284,11 +296,11 @@ void SingleEvaluation::Run() {
   const std::function<int(int)> last_read = [this](int t) { return LastRead(t); };
   const auto first_pass = [this](int t) { FirstPass(t); };
   if (in_.barrier != nullptr) {
+    // Once every share's `before` stage has moved its nodes (or the last evaluation's `after`
+    // stages, which took this one's first pass ahead); added per share.
     if (!rounded_) SharePlan::Run(count_, [this](int t) { Round(t); });
-    // In double, once every share's `before` stage has moved its nodes; added per share.
-    out_.barrier_forces->setZero(3, n_);
-    in_.barrier->AccumulateForces(*in_.positions, out_.barrier_forces);
-    SharePlan::Run(count_, first_pass);
+    Barrier();
+    if (!inflowed_) SharePlan::Run(count_, first_pass);
   } else if (!inflowed_) {
     SharePlan::RunInTwoParts(
         count_, [this](int t) { Round(t); }, first_pass, last_read);

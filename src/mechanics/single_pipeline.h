@@ -25,10 +25,11 @@ struct SingleInputs {
   bool overwrite;                     // store the forces (SetForces) rather than add them
 };
 
-/// Where it writes besides the forces: the barrier's forces (scratch).
+/// Where it writes besides the forces: the barrier's forces and its skip test's state (scratch).
 struct SingleOutputs {
   Eigen::Matrix3Xd* forces;
   Eigen::Matrix3Xd* barrier_forces;
+  BarrierReference* barrier_reference;
 };
 
 /// The stage pipeline of the single-precision loops: which pass runs on which node share in
@@ -57,6 +58,7 @@ class SinglePasses {
     float beta = 0.0f;
   };
   TakenAhead ahead_;
+  bool barrier_added_ = false;  // the last evaluation's barrier forces, not yet zeroed
   // Positions, velocities, the a ends' and the b ends' forces as x, y, z blocks of N each, at
   // Stride() floats apart; the accumulators of the a and b ends and g = J / W the same; from the
   // start of a cache line (SinglePrecisionSprings::kAlignment). Past N: zeros (the blocks'

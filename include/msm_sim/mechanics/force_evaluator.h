@@ -280,6 +280,7 @@ class ForceEvaluator {
   bool overwrite_forces_ = false;                      // during SetForces
   std::shared_ptr<const OrientationBarrier> barrier_;  // null: none
   Eigen::Matrix3Xd barrier_forces_;     // the single loops' barrier forces, added per share
+  BarrierReference barrier_reference_;  // the barrier's skip test for this state's evaluations
   Eigen::Matrix3Xd barrier_positions_;  // at the last Linearize
   std::vector<int> barrier_active_;     // its corners below the threshold then
   bool barrier_curvature_ = true;       // false under GeometricStiffness::kDropCompression
