@@ -44,20 +44,23 @@ inline bool Moved(const double* x, const double* r, const double* allowance, con
 }
 
 // The number of the n nodes that Moved, and the sum of their displacements into sum[3]: one
-// vectorised pass, so that a step where no node moved that far costs no more (its AVX2 clone
-// computes the same bits: no FP contraction in this file).
+// vectorised pass (Moved's arithmetic written out, in its order, so that it vectorises; no FP
+// contraction in this file, so every clone decides as Moved does).
 MSM_SIM_SIMD_CLONES
 long CountMoved(const double* x, const double* r, const double* allowance, long n,
                 const double* shift, double* sum) {
+  const double s0 = shift[0], s1 = shift[1], s2 = shift[2];
   double sx = 0.0, sy = 0.0, sz = 0.0;
   long moved = 0;
 #pragma omp simd reduction(+ : sx, sy, sz, moved)
   for (long i = 0; i < n; ++i) {
-    double u[3];
-    moved += Moved(x, r, allowance, shift, i, u) ? 1 : 0;
-    sx += u[0];
-    sy += u[1];
-    sz += u[2];
+    const double ux = x[3 * i] - r[3 * i], uy = x[3 * i + 1] - r[3 * i + 1],
+                 uz = x[3 * i + 2] - r[3 * i + 2];
+    sx += ux;
+    sy += uy;
+    sz += uz;
+    const double dx = ux - s0, dy = uy - s1, dz = uz - s2;
+    moved += dx * dx + dy * dy + dz * dz <= allowance[i] ? 0 : 1;  // NaN: moved
   }
   sum[0] = sx;
   sum[1] = sy;
