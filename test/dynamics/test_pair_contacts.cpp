@@ -257,8 +257,8 @@ TEST_F(StackedDefaultBlocks, OverlappingByTwoSpacingsAtStartComeApartAndSettleWi
 }
 
 // Three spacings deep the upper block's bottom layer is out of reach of the lower's border nodes
-// and their side faces coincide node on node: the pairs alone left the lattices interlocked
-// (0.03 J at 0.5 s). The upper block's entry (BodyEntries) lifts it out and presses it back in.
+// and their side faces coincide node on node: the pairs alone left the lattices interlocked,
+// ringing. The upper block's entry (BodyEntries) lifts it out and presses it back in.
 // The kinetic energy bound, 1e-5 J, is what a 7 micrometre drop gives the upper block (m g h,
 // 0.154 kg), a thousandth of a 1 cm drop's; pressed back in at the recovery's top speed it
 // carries 8e-4 J, interlocked it rang at 0.03 J.

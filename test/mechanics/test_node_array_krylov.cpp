@@ -27,6 +27,37 @@ NodeArrayOperator DenseOperator(const Eigen::MatrixXd& a) {
   };
 }
 
+// A's blocks on the free DOFs (free entries != 0) and the fixed ones, in DOF order, and b's free
+// part: the dense reference systems the solves are checked against.
+struct SplitSystem {
+  std::vector<int> free, fixed;
+  Eigen::MatrixXd a_ff, a_fc;
+  Eigen::VectorXd b_f;
+};
+SplitSystem SplitByFree(const Eigen::MatrixXd& a, const Eigen::Matrix3Xd& b,
+                        const Eigen::Matrix3Xd& free) {
+  SplitSystem s;
+  for (int k = 0; k < a.rows(); ++k) (free.data()[k] != 0.0 ? s.free : s.fixed).push_back(k);
+  const auto& f = s.free;
+  const auto& c = s.fixed;
+  s.a_ff.resize(f.size(), f.size());
+  s.a_fc.resize(f.size(), c.size());
+  s.b_f.resize(f.size());
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    s.b_f[i] = b.data()[f[i]];
+    for (std::size_t j = 0; j < f.size(); ++j) s.a_ff(i, j) = a(f[i], f[j]);
+    for (std::size_t j = 0; j < c.size(); ++j) s.a_fc(i, j) = a(f[i], c[j]);
+  }
+  return s;
+}
+
+// 1 / diag(A) as node arrays.
+Eigen::Matrix3Xd InverseDiagonal(const Eigen::MatrixXd& a) {
+  Eigen::Matrix3Xd inverse(3, a.rows() / 3);
+  for (int k = 0; k < a.rows(); ++k) inverse.data()[k] = 1.0 / a(k, k);
+  return inverse;
+}
+
 TEST(MaskedPcg, MatchesADenseSolveWithFixedDofsMovedToTheRightHandSide) {
   const Eigen::MatrixXd a = TinySpdMatrix();
   Eigen::Matrix3Xd b(3, 4);
@@ -41,20 +72,14 @@ TEST(MaskedPcg, MatchesADenseSolveWithFixedDofsMovedToTheRightHandSide) {
   const Eigen::Matrix3Xd held = x;
 
   // Dense reference: A_ff x_f = b_f - A_fc x_c.
-  std::vector<int> f, c;
-  for (int k = 0; k < 12; ++k) (free.data()[k] != 0.0 ? f : c).push_back(k);
-  Eigen::MatrixXd a_ff(f.size(), f.size()), a_fc(f.size(), c.size());
-  Eigen::VectorXd rhs(f.size()), x_c(c.size());
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    rhs[i] = b.data()[f[i]];
-    for (std::size_t j = 0; j < f.size(); ++j) a_ff(i, j) = a(f[i], f[j]);
-    for (std::size_t j = 0; j < c.size(); ++j) a_fc(i, j) = a(f[i], c[j]);
-  }
+  const SplitSystem split = SplitByFree(a, b, free);
+  const std::vector<int>& f = split.free;
+  const std::vector<int>& c = split.fixed;
+  Eigen::VectorXd x_c(c.size());
   for (std::size_t j = 0; j < c.size(); ++j) x_c[j] = x.data()[c[j]];
-  const Eigen::VectorXd expected = a_ff.ldlt().solve(rhs - a_fc * x_c);
+  const Eigen::VectorXd expected = split.a_ff.ldlt().solve(split.b_f - split.a_fc * x_c);
 
-  Eigen::Matrix3Xd inverse_diagonal(3, 4);
-  for (int k = 0; k < 12; ++k) inverse_diagonal.data()[k] = 1.0 / a(k, k);
+  const Eigen::Matrix3Xd inverse_diagonal = InverseDiagonal(a);
   MaskedPcgOptions options;
   options.relative_tolerance = 1e-12;
   options.max_iterations = 100;
@@ -159,20 +184,11 @@ TEST(MaskedBiCgStab, MatchesADenseSolveOfAnUnsymmetricSystemOnTheFreeDofs) {
   b << 1.0, -2.0, 0.5, 3.0, 0.0, 1.5, -1.0, 2.0, 4.0, -0.5, 1.0, 0.25;
   Eigen::Matrix3Xd free = Eigen::Matrix3Xd::Ones(3, 4);
   free.col(2).setZero();
-  std::vector<int> f;
-  for (int k = 0; k < 12; ++k) {
-    if (free.data()[k] != 0.0) f.push_back(k);
-  }
-  Eigen::MatrixXd a_ff(f.size(), f.size());
-  Eigen::VectorXd rhs(f.size());
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    rhs[i] = b.data()[f[i]];
-    for (std::size_t j = 0; j < f.size(); ++j) a_ff(i, j) = a(f[i], f[j]);
-  }
-  const Eigen::VectorXd expected = a_ff.partialPivLu().solve(rhs);
+  const SplitSystem split = SplitByFree(a, b, free);
+  const std::vector<int>& f = split.free;
+  const Eigen::VectorXd expected = split.a_ff.partialPivLu().solve(split.b_f);
 
-  Eigen::Matrix3Xd inverse_diagonal(3, 4);
-  for (int k = 0; k < 12; ++k) inverse_diagonal.data()[k] = 1.0 / a(k, k);
+  const Eigen::Matrix3Xd inverse_diagonal = InverseDiagonal(a);
   MaskedPcgOptions options;
   options.relative_tolerance = 1e-12;
   options.max_iterations = 200;
