@@ -8,7 +8,11 @@
 // docs/physics.md §7.1 "Stopping the solve": the baseline of that stop).
 // BM_GraspSphere and BM_GraspCylinder: the grasp grid's sphere (Ø 5 cm) and cylinder (Ø 4 x 6 cm,
 // lying across the pads) in the same material and lattice, Q 1.5 (config/sweeps/grasp.yaml).
+// BM_GraspSceneUnscaled: the bean without selective mass scaling (mass_scaling 0,
+// docs/physics.md §7), the baseline of that scaling, run interleaved with it.
 // --benchmark_filter=Grasp --benchmark_repetitions=3
+#include <cmath>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -18,12 +22,15 @@
 #include "msm_sim/geometry/mesh_import.h"
 #include "msm_sim/geometry/mesh_primitives.h"
 #include "msm_sim/lattice/body_recipe.h"
+#include "msm_sim/mechanics/stable_time_step.h"
 
 namespace msm_sim::core {
 namespace {
 
-std::shared_ptr<const Model> GraspBean() {
-  static std::shared_ptr<const Model> bean;
+// The bean with mass_scaling `bound` (NodeCentredSurfaceOptions::mass_scaling), built once.
+std::shared_ptr<const Model> GraspBean(double bound = NodeCentredSurfaceOptions{}.mass_scaling) {
+  static std::map<double, std::shared_ptr<const Model>> beans;
+  std::shared_ptr<const Model>& bean = beans[bound];
   if (!bean) {
     MeshImportOptions import;
     import.scale = 0.42;
@@ -32,6 +39,7 @@ std::shared_ptr<const Model> GraspBean() {
         ImportSolidMesh(std::string(MSM_SIM_MESH_DIR) + "/soft_bean.obj", import));
     recipe.lattice.spacing = 0.003;
     recipe.surface.surface_dispersion = 0.25;
+    recipe.surface.mass_scaling = bound;
     bean = std::make_shared<const Model>(BuildModel(recipe));
   }
   return bean;
@@ -78,11 +86,18 @@ void RunGrasp(benchmark::State& state, const std::shared_ptr<const Model>& objec
   state.counters["real_time_factor"] = result.real_time_factor;
   state.counters["held"] = result.held ? 1.0 : 0.0;
   state.counters["cg_iterations_per_step"] = result.solver_iterations;
+  state.counters["added_mass_fraction"] = object->added_mass() / object->masses().sum();
+  StableTimeStepOptions stability;  // the grasp World's: its dampers, safety 0.8
+  stability.damping_beta = options.damping_beta;
+  state.counters["substeps_per_step"] =
+      std::ceil(options.step / StableTimeStep(*object, stability));
 }
 
 void BM_GraspScene(benchmark::State& state) { RunGrasp(state, GraspBean()); }
+void BM_GraspSceneUnscaled(benchmark::State& state) { RunGrasp(state, GraspBean(0.0)); }
 void BM_GraspSphere(benchmark::State& state) { RunGrasp(state, GraspSphere()); }
 void BM_GraspCylinder(benchmark::State& state) { RunGrasp(state, GraspCylinder()); }
+BENCHMARK(BM_GraspSceneUnscaled)->Arg(0)->UseManualTime()->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_GraspScene)
     ->Arg(0)
     ->Arg(1)

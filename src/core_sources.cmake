@@ -29,6 +29,7 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/lattice/outer_layer_dispersion.cpp
   ${MSM_SIM_DIR}/src/lattice/random_lattice_builder.cpp
   ${MSM_SIM_DIR}/src/lattice/random_self_calibration.cpp
+  ${MSM_SIM_DIR}/src/lattice/selective_mass_scaling.cpp
   # io
   ${MSM_SIM_DIR}/src/io/regular_file.cpp
   # geometry

@@ -16,6 +16,7 @@ if(CATKIN_ENABLE_TESTING)
     test/lattice/test_cubic_lattice_builder.cpp
     test/lattice/test_free_face_bending.cpp
     test/lattice/test_outer_layer_dispersion.cpp
+    test/lattice/test_selective_mass_scaling.cpp
     test/lattice/test_random_lattice_builder.cpp
     test/mechanics/test_force_evaluator.cpp
     test/mechanics/test_force_kernels.cpp
@@ -66,7 +67,8 @@ if(CATKIN_ENABLE_TESTING)
   target_include_directories(test_core_units PRIVATE src)
   target_link_libraries(test_core_units msm_sim_experiments gtest_main)
   target_compile_definitions(test_core_units PRIVATE
-    MSM_SIM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data")
+    MSM_SIM_TEST_DATA_DIR="${CMAKE_CURRENT_SOURCE_DIR}/test/data"
+    MSM_SIM_PACKAGE_DIR="${CMAKE_CURRENT_SOURCE_DIR}")
 
   # The squeeze against the stored CalculiX reference (issue 61); needs no ccx.
   catkin_add_gtest(test_squeeze_calculix test/experiments/test_squeeze_calculix.cpp TIMEOUT 900)

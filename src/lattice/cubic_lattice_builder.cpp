@@ -11,6 +11,7 @@
 #include "lattice/lattice_geometry.h"
 #include "lattice/node_centred_lattice.h"
 #include "lattice/outer_layer_dispersion.h"
+#include "lattice/selective_mass_scaling.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 
@@ -102,6 +103,7 @@ Model BuildCubicLattice(const Material& material, const CubicLatticeOptions& opt
   Validate(Box(options));
   lattice::ValidateAnchoredPlanes(options.surface.anchored_planes);
   lattice::ValidateSurfaceDispersion(options.surface.surface_dispersion);
+  lattice::ValidateMassScaling(options.surface.mass_scaling);
   if (options.surface.surface_dispersion != 1.0 &&
       options.construction != CubicConstruction::kNodeCentred) {
     throw std::invalid_argument("surface_dispersion needs the node-centred construction");

@@ -12,6 +12,7 @@
 #include "lattice/lattice_geometry.h"
 #include "lattice/node_centred_lattice.h"
 #include "lattice/outer_layer_dispersion.h"
+#include "lattice/selective_mass_scaling.h"
 
 namespace msm_sim::core {
 namespace {
@@ -23,6 +24,7 @@ void Validate(const SolidMesh& solid, const MeshCubicLatticeOptions& options) {
   Validate(BoxOf(solid.max_corner() - solid.min_corner(), options.lattice));
   lattice::ValidateAnchoredPlanes(options.surface.anchored_planes);
   lattice::ValidateSurfaceDispersion(options.surface.surface_dispersion);
+  lattice::ValidateMassScaling(options.surface.mass_scaling);
   if (!options.surface.anchored_planes.empty() && options.lattice.rotation_angle != 0.0) {
     throw std::invalid_argument("anchored planes need a lattice aligned with the solid's frame");
   }

@@ -9,6 +9,7 @@
 
 #include "lattice/free_face_bending.h"
 #include "lattice/outer_layer_dispersion.h"
+#include "lattice/selective_mass_scaling.h"
 #include "msm_sim/material/extended_msm.h"
 #include "msm_sim/model/model_builder.h"
 
@@ -274,6 +275,11 @@ Model BuildNodeCentredModel(const Material& material, const OccupiedCells& cells
   SetDispersionWeightsFromShares(shares, factors, &builder);
   if (surface.surface_dispersion < 1.0 && q > 0.0) {
     ShiftOuterLayerDispersion(OuterLayerOf(cells, index), surface.surface_dispersion, &builder);
+  }
+  Model model = builder.Build(occupied * a * a * a, a);
+  // docs/physics.md §7 "Selective mass scaling": a box of whole cells stays exactly as built.
+  if (!ScaleCutCells(model, cells, material, surface, spring_law, power_law, &builder)) {
+    return model;
   }
   return builder.Build(occupied * a * a * a, a);
 }

@@ -39,6 +39,14 @@ SpringIndex ModelBuilder::AddSpring(NodeIndex a, NodeIndex b, double stiffness) 
   return static_cast<SpringIndex>(stiffness_.size() - 1);
 }
 
+void ModelBuilder::AddScaledMass(NodeIndex node, double extra) {
+  if (!(extra >= 0.0) || !std::isfinite(extra)) {
+    throw std::invalid_argument("added mass must be finite and >= 0");
+  }
+  masses_[node] += extra;
+  added_mass_ += extra;
+}
+
 void ModelBuilder::AddStiffness(SpringIndex spring, double extra) { stiffness_[spring] += extra; }
 
 void ModelBuilder::SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight) {
@@ -103,6 +111,8 @@ Model ModelBuilder::Build(double volume, double characteristic_length) const {
   model.power_spring_law_ = power_spring_law_;
   model.dispersion_fraction_ = dispersion_fraction_;
   model.self_calibration_ = self_calibration_;
+  model.added_mass_ = added_mass_;
+  model.mass_scaling_limited_ = mass_scaling_limited_;
   model.volume_ = volume;
   model.characteristic_length_ = characteristic_length;
   return model;

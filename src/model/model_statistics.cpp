@@ -10,6 +10,7 @@ ModelStatistics ComputeModelStatistics(const Model& model) {
   stats.springs = model.num_springs();
   stats.mean_springs_per_node = 2.0 * stats.springs / stats.nodes;
   stats.total_mass = model.masses().sum();
+  stats.added_mass = model.added_mass();
   if (stats.springs > 0) {
     double sum = 0.0;
     double sum_sq = 0.0;

@@ -13,6 +13,7 @@ Model Rebuilt(const Model& model, const Eigen::Isometry3d& pose, SpringLaw law,
   builder.SetSpringLaw(law, power);
   builder.SetDispersionFraction(model.dispersion_fraction());
   builder.SetSelfCalibration(model.self_calibration());
+  builder.SetMassScaling(model.added_mass(), model.mass_scaling_limited());
   for (NodeIndex i = 0; i < model.num_nodes(); ++i) {
     builder.AddNode(pose * Eigen::Vector3d(model.rest_positions().col(i)), model.masses()[i],
                     model.surface_insets()[i]);

@@ -78,6 +78,12 @@ struct NodeCentredSurfaceOptions {
   /// which lowers a sphere's force on a coarse block (a few cells under the contact), and much
   /// less where the contact is resolved (docs/design/surface-dispersion.md). 1 (default): off.
   double surface_dispersion = 1.0;
+  /// Selective mass scaling (docs/physics.md §7 "Selective mass scaling"): the most mass, as a
+  /// fraction of the body's, that may be added to the nodes of cells the surface cuts (chi < 1)
+  /// whose local stable step is shorter than a full interior cell's, each up to that cell's
+  /// figure, so that cut cells do not set the explicit step. In [0, 0.1]; 0: off. Boxes of whole
+  /// cells have no cut cells and are unchanged. The mass added is Model::added_mass.
+  double mass_scaling = 0.01;
 };
 
 }  // namespace msm_sim::core

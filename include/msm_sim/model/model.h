@@ -99,6 +99,12 @@ class Model {
   /// The self-calibration the stiffnesses and q were corrected by (random lattices built with
   /// one, docs/physics.md §2.2), with what it was measured for; empty for every other model.
   const std::optional<SelfCalibration>& self_calibration() const { return self_calibration_; }
+  /// Mass (kg, >= 0) that selective mass scaling added to the nodes of cut lattice cells so that
+  /// they do not set the explicit stable step (docs/physics.md §7 "Selective mass scaling");
+  /// already part of masses(). 0 for models without cut cells or built without it.
+  double added_mass() const { return added_mass_; }
+  /// True when the bound on the added mass stopped the scaling short of the full-cell figure.
+  bool mass_scaling_limited() const { return mass_scaling_limited_; }
 
  private:
   friend class ModelBuilder;
@@ -124,6 +130,8 @@ class Model {
   double volume_ = 0.0;
   double characteristic_length_ = 0.0;
   std::optional<SelfCalibration> self_calibration_;
+  double added_mass_ = 0.0;
+  bool mass_scaling_limited_ = false;
 };
 
 }  // namespace msm_sim::core

@@ -24,6 +24,15 @@ class ModelBuilder {
   /// Adds a spring between two existing distinct nodes; returns its index.
   /// Precondition: stiffness > 0 and the nodes do not coincide.
   SpringIndex AddSpring(NodeIndex a, NodeIndex b, double stiffness);
+  /// Adds `extra` (kg, finite, >= 0) to an existing node's mass and counts it as added mass
+  /// (Model::added_mass: selective mass scaling, docs/physics.md §7).
+  void AddScaledMass(NodeIndex node, double extra);
+  /// Records mass added before (a model rebuilt from another: Model::added_mass, already in the
+  /// masses given to AddNode) and whether its bound limited it (Model::mass_scaling_limited).
+  void SetMassScaling(double added_mass, bool limited) {
+    added_mass_ = added_mass;
+    mass_scaling_limited_ = limited;
+  }
   /// Adds `extra` (N/m) to an existing spring's stiffness.
   void AddStiffness(SpringIndex spring, double extra);
   /// Sets the eMSM dispersion weight of `spring` at its end `node` (starts at 1; see
@@ -32,6 +41,7 @@ class ModelBuilder {
   void SetDispersionWeight(SpringIndex spring, NodeIndex node, double weight);
   NodeIndex spring_node_a(SpringIndex s) const { return node_a_[s]; }
   double spring_stiffness(SpringIndex s) const { return stiffness_[s]; }
+  double node_mass(NodeIndex node) const { return masses_[node]; }
   NodeIndex spring_node_b(SpringIndex s) const { return node_b_[s]; }
   double spring_rest_length(SpringIndex s) const { return rest_length_[s]; }
   /// The dispersion weights of spring s at its ends a and b (SetDispersionWeight).
@@ -67,6 +77,8 @@ class ModelBuilder {
   PowerSpringLaw power_spring_law_;
   double dispersion_fraction_ = 0.0;
   std::optional<SelfCalibration> self_calibration_;
+  double added_mass_ = 0.0;
+  bool mass_scaling_limited_ = false;
   std::vector<Eigen::Vector3d> positions_;
   std::vector<double> masses_;
   std::vector<double> surface_insets_;

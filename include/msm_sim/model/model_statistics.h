@@ -13,6 +13,7 @@ struct ModelStatistics {
   double mean_spring_length = 0.0;     ///< <L> (m)
   double spring_length_stddev = 0.0;   ///< dL (m)
   double total_mass = 0.0;             ///< kg
+  double added_mass = 0.0;             ///< kg of total_mass from mass scaling (Model::added_mass)
 };
 
 ModelStatistics ComputeModelStatistics(const Model& model);
