@@ -135,6 +135,12 @@ void AddLatticeOptions(CLI::App* command, ModelArguments* model, std::vector<dou
       ->capture_default_str()
       ->check(ShareInZeroToOne());
   command
+      ->add_option("--mass-scaling", model->mass_scaling,
+                   "node-centred cubic: the most mass added to cut cells so that they do not set "
+                   "the explicit step, a fraction of the body's in [0, 0.1]; 0: off")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.1));
+  command
       ->add_option("--spring", model->spring,
                    "spring tension law: linear | nonlinear | power (with --alpha and --beta)")
       ->capture_default_str()

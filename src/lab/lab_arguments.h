@@ -36,6 +36,9 @@ struct ModelArguments {
   bool free_face_bending = false;   ///< node-centred cubic: docs/physics.md §2.1
   double surface_dispersion = 1.0;  ///< node-centred cubic: docs/physics.md §7, in (0, 1]
   int target_nodes = 0;             ///< > 0: choose the spacing for about this many nodes
+  /// node-centred cubic: the bound on the mass added to cut cells, a fraction of the body's, in
+  /// [0, 0.1] (docs/physics.md §7 "Selective mass scaling"); 0: off
+  double mass_scaling = 0.01;
 };
 
 enum class LabCommand {

@@ -48,6 +48,7 @@ int RunRealtime(const LabArguments& arguments, std::ostream& out) {
   const core::RealtimeExperimentResult result = core::RunRealtimeExperiment(model, options);
   if (arguments.json) {
     const Json json{{"nodes", result.nodes},
+                    {"added_mass", model->added_mass()},
                     {"springs", result.springs},
                     {"integrator", result.integrator},
                     {"step", result.step},
@@ -136,6 +137,7 @@ int RunIndent(const LabArguments& arguments, std::ostream& out) {
   Json json{{"profile", profile},
             {"touch_depth", result.touch_depth},
             {"nodes", model->num_nodes()},
+            {"added_mass", model->added_mass()},
             {"seconds", result.seconds_simulated},
             {"integrator", contact.integrator}};
   if (!held.is_null()) json.update(held);
@@ -181,6 +183,7 @@ int RunGrip(const LabArguments& arguments, std::ostream& out) {
     const Json json{{"ratio", grip.ratio},
                     {"integrator", grip.integrator},
                     {"nodes", model->num_nodes()},
+                    {"added_mass", model->added_mass()},
                     {"weight", r.weight},
                     {"normal_force", r.normal_force},
                     {"lift_normal_force", r.lift_normal_force_mean},

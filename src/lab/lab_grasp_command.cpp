@@ -99,6 +99,7 @@ int RunGrasp(const LabArguments& arguments, std::ostream& out) {
                   {"force_ratio", grasp.force_ratio},
                   {"integrator", grasp.integrator},
                   {"nodes", r.nodes},
+                  {"added_mass", model->added_mass()},
                   {"squeeze_force", r.squeeze_force},
                   {"rise", r.rise},
                   {"slip", r.slip},

@@ -81,6 +81,7 @@ core::BodyRecipe LabRecipe(const ModelArguments& arguments, const LabBody& body)
   recipe.antialias = arguments.antialias;
   recipe.surface.free_face_bending = arguments.free_face_bending;
   recipe.surface.surface_dispersion = arguments.surface_dispersion;
+  recipe.surface.mass_scaling = arguments.mass_scaling;
   recipe.seed = arguments.seed;
   recipe.random_min_distance = arguments.min_dist;
   recipe.random_max_distance = arguments.max_dist;

@@ -8,7 +8,8 @@ Json ModelJson(const core::ModelStatistics& stats) {
               {"mean_springs_per_node", stats.mean_springs_per_node},
               {"mean_spring_length", stats.mean_spring_length},
               {"spring_length_stddev", stats.spring_length_stddev},
-              {"total_mass", stats.total_mass}};
+              {"total_mass", stats.total_mass},
+              {"added_mass", stats.added_mass}};
 }
 
 Json SolverJson(const core::StaticSolverReport& report) {
@@ -37,6 +38,9 @@ void PrintModelTable(const ModelArguments& arguments, const core::ModelStatistic
       << "<L>, dL          " << stats.mean_spring_length << " m, " << stats.spring_length_stddev
       << " m\n"
       << "total mass       " << stats.total_mass << " kg\n";
+  if (stats.added_mass > 0.0) {
+    out << "added mass       " << stats.added_mass << " kg (mass scaling of cut cells)\n";
+  }
 }
 
 double Seconds(std::chrono::steady_clock::time_point start) {

@@ -16,7 +16,8 @@ namespace msm_sim::lab {
 /// Keys keep the order they are inserted in, so that the JSON reads like the table.
 using Json = nlohmann::ordered_json;
 
-/// nodes, springs, mean_springs_per_node, mean_spring_length, spring_length_stddev, total_mass.
+/// nodes, springs, mean_springs_per_node, mean_spring_length, spring_length_stddev, total_mass,
+/// added_mass.
 Json ModelJson(const core::ModelStatistics& stats);
 
 /// converged, newton_iterations, cg_iterations, max_residual_force.

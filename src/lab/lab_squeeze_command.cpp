@@ -76,6 +76,7 @@ int RunSqueeze(const LabArguments& arguments, std::ostream& out, std::ostream& e
                   {"speed", arguments.squeeze.speed},
                   {"integrator", arguments.squeeze.integrator},
                   {"nodes", r.nodes},
+                  {"added_mass", model->added_mass()},
                   {"spacing", model->characteristic_length()},
                   {"height", r.height},
                   {"profile", profile},

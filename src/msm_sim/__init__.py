@@ -20,7 +20,8 @@ __all__ = ["Material", "Model", "World", "build_model", "lab", "load_model"]
 def build_model(material, shape="box", *, size=(0.1, 0.1, 0.1), radius=0.05, length=0.1,
                 mesh="", scale=1.0, model="cubic", spacing=0.0, target_nodes=0,
                 spring=None, tensile_law=None, antialias=True, seed=1,
-                self_calibrate=False, free_face_bending=False, surface_dispersion=1.0):
+                self_calibrate=False, free_face_bending=False, surface_dispersion=1.0,
+                mass_scaling=0.01):
     """The calibrated model of a shape centred on the origin, by the scene YAML's names.
 
     shape: box (size, m), sphere (radius), cylinder (radius, length along z) or mesh (a closed
@@ -28,8 +29,8 @@ def build_model(material, shape="box", *, size=(0.1, 0.1, 0.1), radius=0.05, len
     target_nodes is needed. tensile_law: a mapping with the fitted power law's alpha and beta
     (what `msm_lab fit --tensile`, or msm_sim.lab.fit(tensile=...), returns). spring: linear,
     nonlinear or power; default power with a tensile_law, else linear. antialias, seed,
-    self_calibrate, free_face_bending and surface_dispersion as in docs/scenes.md. Raises
-    ValueError for options no builder takes.
+    self_calibrate, free_face_bending, surface_dispersion and mass_scaling as in
+    docs/scenes.md. Raises ValueError for options no builder takes.
     """
     if spring is None:
         spring = "power" if tensile_law is not None else "linear"
@@ -41,7 +42,8 @@ def build_model(material, shape="box", *, size=(0.1, 0.1, 0.1), radius=0.05, len
                "antialias": bool(antialias), "seed": int(seed),
                "self_calibrate": bool(self_calibrate),
                "free_face_bending": bool(free_face_bending),
-               "surface_dispersion": float(surface_dispersion)}
+               "surface_dispersion": float(surface_dispersion),
+               "mass_scaling": float(mass_scaling)}
     return _core_build_model(material, shape, [float(v) for v in size], float(radius),
                              float(length), str(mesh), float(scale), lattice)
 

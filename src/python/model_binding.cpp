@@ -84,6 +84,7 @@ PyModel BuildModel(const core::Material& material, const core::BodyShape& shape,
   recipe.random_self_calibrate = py::cast<bool>(lattice["self_calibrate"]);
   recipe.surface.free_face_bending = py::cast<bool>(lattice["free_face_bending"]);
   recipe.surface.surface_dispersion = py::cast<double>(lattice["surface_dispersion"]);
+  recipe.surface.mass_scaling = py::cast<double>(lattice["mass_scaling"]);
   py::gil_scoped_release release;
   return PyModel{std::make_shared<const core::Model>(core::BuildModel(recipe))};
 }
@@ -122,6 +123,9 @@ void BindModelClass(py::module_& module) {
                              })
       .def_property_readonly("masses",
                              [](const PyModel& m) -> Eigen::VectorXd { return m.model->masses(); })
+      .def_property_readonly(
+          "added_mass", [](const PyModel& m) { return m.model->added_mass(); },
+          "kg added to cut cells by mass scaling (docs/physics.md 7), part of masses")
       .def_property_readonly("springs",
                              [](const PyModel& m) {
                                const int n = m.model->num_springs();

@@ -40,6 +40,7 @@ const std::set<std::string> kObjectKeys = {"name",
                                            "antialias",
                                            "free_face_bending",
                                            "surface_dispersion",
+                                           "mass_scaling",
                                            "seed",
                                            "self_calibrate",
                                            "material",
@@ -218,9 +219,23 @@ ClampConfig ReadClamp(XmlRpcValue& clamp, const std::set<std::string>& reserved,
   return config;
 }
 
+// mass_scaling (docs/physics.md §7 "Selective mass scaling"): the bound on the mass added to cut
+// cells, as a fraction of the body's; cubic models in a mesh or a primitive read it, others
+// ignore it.
+double ReadMassScaling(XmlRpcValue& object, const std::string& path) {
+  const double bound = Number(object, "mass_scaling", 0.01, path);
+  if (!(bound >= 0.0 && bound <= 0.1)) {
+    Fail(path + "/mass_scaling",
+         "must lie in [0, 0.1] (the most mass added to cut cells, as a fraction of the body's; 0: "
+         "off), got " +
+             std::to_string(bound));
+  }
+  return bound;
+}
+
 // The lattice keys: model, spacing or target_nodes, anti-aliasing, the free faces' bending, the
-// outer layer's dispersion, the random seed and self-calibration (the spring law is read with
-// the material: ReadSpringLaw).
+// outer layer's dispersion, mass scaling, the random seed and self-calibration (the spring law is
+// read with the material: ReadSpringLaw).
 void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig* config) {
   config->model = ReadLatticeKind(object, config->model, path);
   if (config->model == core::LatticeKind::kBaudet &&
@@ -247,6 +262,7 @@ void ReadLatticeKeys(XmlRpcValue& object, const std::string& path, ObjectConfig*
   if (config->surface.surface_dispersion != 1.0 && config->model != core::LatticeKind::kCubic) {
     Fail(path + "/surface_dispersion", "applies to cubic models only");
   }
+  config->surface.mass_scaling = ReadMassScaling(object, path);
   config->seed = static_cast<std::uint64_t>(param::Count(object, "seed", 1.0, kMaxSeed, path));
   // Read whatever the lattice, so that a bad value is refused wherever it is given.
   const bool self_calibrate = Flag(object, "self_calibrate", kSelfCalibrateDefault, path);

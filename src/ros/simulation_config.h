@@ -65,7 +65,9 @@ struct ObjectConfig {
   bool antialias = true;
   /// Cubic models' surface, handed to the BodyRecipe as it is. YAML: free_face_bending
   /// (docs/physics.md §2.1; boxes of whole cells only) and surface_dispersion (docs/physics.md §7:
-  /// the share of its eMSM bulk the outer node layer keeps, in (0, 1]). Anchored planes come from
+  /// the share of its eMSM bulk the outer node layer keeps, in (0, 1]) and mass_scaling (§7
+  /// "Selective mass scaling": the bound on the mass added to cut cells, in [0, 0.1], default
+  /// 0.01). Anchored planes come from
   /// the clamps when the object is built (ObjectRecipe); compensate_surface keeps its default.
   core::NodeCentredSurfaceOptions surface;
   std::uint64_t seed = 1;  ///< random models

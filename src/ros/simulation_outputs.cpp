@@ -199,13 +199,16 @@ diagnostic_msgs::DiagnosticArray Simulation::Diagnostics(const ros::Time& stamp,
     status.message = "running without part of the robot (see robot problems)";
   }
   for (const Object& object : objects_) {
-    add("nodes " + object.config.name, std::to_string(world_.model(object.body).num_nodes()));
-    add("mass " + object.config.name + " [kg]", text(world_.model(object.body).masses().sum()));
+    const core::Model& model = world_.model(object.body);
+    add("nodes " + object.config.name, std::to_string(model.num_nodes()));
+    add("mass " + object.config.name + " [kg]", text(model.masses().sum()));
+    add("added mass " + object.config.name + " [kg]", text(model.added_mass()));
+    if (model.mass_scaling_limited()) {
+      add("mass scaling " + object.config.name, "limited by mass_scaling (the bound)");
+    }
     add("energy " + object.config.name + " [J]", text(world_.ComputeEnergies(object.body).total()));
-  }
-  // The calibrated springs, so that a new material (~set_material, ~reconfigure) shows.
-  for (const Object& object : objects_) {
-    const std::vector<double>& k = world_.model(object.body).spring_stiffness();
+    // The calibrated springs, so that a new material (~set_material, ~reconfigure) shows.
+    const std::vector<double>& k = model.spring_stiffness();
     const double mean = k.empty() ? 0.0 : std::accumulate(k.begin(), k.end(), 0.0) / k.size();
     add("mean spring stiffness " + object.config.name + " [N/m]", text(mean));
   }

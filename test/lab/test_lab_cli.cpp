@@ -126,6 +126,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
                  "--poisson 0.45 --surface-dispersion 1.5",
                  2, "--surface-dispersion"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.45 --mass-scaling 0.5",
+                 2, "--mass-scaling"},
+        BadInput{"compression --model cubic --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
+                 "--poisson 0.45 --mass-scaling -1",
+                 2, "--mass-scaling"},
         BadInput{"compression --model random --size 1 0.5 0.5 --spacing 0.1 --youngs 1e5 "
                  "--poisson 0.45 --surface-dispersion 0.5",
                  2, "surface_dispersion is for node-centred cubic"},

@@ -1,6 +1,7 @@
 // Runs the real msm_lab executable's grasp command (issue "Grasp and lift"): its JSON keys, its
 // table, and one error line with exit code 2 for every bad combination of shape options.
 
+#include <cmath>
 #include <set>
 #include <string>
 
@@ -28,8 +29,12 @@ TEST(LabCliGrasp, JsonHasExactlyTheKeysAndHoldsTheSphere) {
   std::set<std::string> keys;
   for (const auto& item : json.items()) keys.insert(item.key());
   EXPECT_EQ(keys, (std::set<std::string>{"shape", "friction", "force_ratio", "integrator", "nodes",
-                                         "squeeze_force", "rise", "slip", "held", "max_node_speed",
-                                         "energy_max", "real_time_factor"}));
+                                         "added_mass", "squeeze_force", "rise", "slip", "held",
+                                         "max_node_speed", "energy_max", "real_time_factor"}));
+  // The sphere's cut cells carry mass scaling's added mass (docs/physics.md §7), at most 1 % of
+  // its 37 g.
+  EXPECT_GT(json["added_mass"].get<double>(), 0.0);
+  EXPECT_LE(json["added_mass"].get<double>(), 0.01 * 4.0 / 3.0 * M_PI * 0.02 * 0.02 * 0.02 * 1100);
   EXPECT_EQ(json["shape"], "sphere");
   EXPECT_TRUE(json["held"].get<bool>());
   EXPECT_GE(json["rise"].get<double>(), 0.98 * 0.02);

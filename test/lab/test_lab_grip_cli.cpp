@@ -25,9 +25,10 @@ TEST(LabCliGrip, JsonHasExactlyTheKeysAndHoldsAboveTheWeight) {
   const auto json = nlohmann::json::parse(run.out);
   std::set<std::string> keys;
   for (const auto& item : json.items()) keys.insert(item.key());
-  EXPECT_EQ(keys, (std::set<std::string>{"ratio", "integrator", "nodes", "weight", "normal_force",
-                                         "lift_normal_force", "mu", "slip", "max_slip",
-                                         "seconds_lifted", "held"}));
+  EXPECT_EQ(keys, (std::set<std::string>{"ratio", "integrator", "nodes", "added_mass", "weight",
+                                         "normal_force", "lift_normal_force", "mu", "slip",
+                                         "max_slip", "seconds_lifted", "held"}));
+  EXPECT_EQ(json["added_mass"], 0.0);  // a box has no cut cells
   EXPECT_EQ(json["nodes"], 64);
   EXPECT_EQ(json["integrator"], "explicit");
   EXPECT_NEAR(json["weight"].get<double>(), 0.04 * 0.04 * 0.04 * 1100 * 9.81, 1e-9);

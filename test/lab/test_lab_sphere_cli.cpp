@@ -25,9 +25,9 @@ TEST(LabCliRealtime, JsonHasExactlyTheIssuesKeys) {
   const auto json = nlohmann::json::parse(run.out);
   std::set<std::string> keys;
   for (const auto& item : json.items()) keys.insert(item.key());
-  EXPECT_EQ(keys,
-            (std::set<std::string>{"nodes", "springs", "integrator", "step", "substeps",
-                                   "wall_per_simulated_second", "real_time_factor", "peak_force"}));
+  EXPECT_EQ(keys, (std::set<std::string>{"nodes", "added_mass", "springs", "integrator", "step",
+                                         "substeps", "wall_per_simulated_second",
+                                         "real_time_factor", "peak_force"}));
   EXPECT_EQ(json["nodes"], 256);
   EXPECT_EQ(json["integrator"], "explicit");
   EXPECT_EQ(json["step"], 1e-3);

@@ -117,6 +117,17 @@ def test_model_file_round_trip(tmp_path):
     assert np.array_equal(loaded.spring_stiffness, model.spring_stiffness)
 
 
+def test_mass_scaling_by_its_yaml_name():
+    material = msm_sim.Material(youngs=2e5, poisson=0.45, density=1100.0)
+    scaled = msm_sim.build_model(material, "sphere", radius=0.02, spacing=0.005)
+    plain = msm_sim.build_model(material, "sphere", radius=0.02, spacing=0.005, mass_scaling=0.0)
+    assert plain.added_mass == 0.0
+    assert 0.0 < scaled.added_mass <= 0.01 * plain.masses.sum()
+    assert scaled.masses.sum() == pytest.approx(plain.masses.sum() + scaled.added_mass)
+    with pytest.raises(ValueError, match="mass_scaling must lie in"):
+        msm_sim.build_model(material, "sphere", radius=0.02, spacing=0.005, mass_scaling=0.5)
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda: msm_sim.Material(youngs=-1.0, poisson=0.3, density=1000.0), "oung"),
     (lambda: msm_sim.build_model(msm_sim.Material(youngs=1e5, poisson=0.3, density=1e3),

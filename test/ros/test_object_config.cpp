@@ -188,5 +188,20 @@ TEST(ObjectSpringLaw, AMaterialsBadTensileLawNamesTheMaterial) {
   }
 }
 
+// objects[]/mass_scaling (docs/physics.md §7 "Selective mass scaling"): 1 % unless asked for, 0
+// turns it off, and outside [0, 0.1] the object is refused with one line naming the key.
+TEST(ObjectMassScaling, ReadWithItsDefaultAndRefusedOutOfRange) {
+  EXPECT_EQ(ReadOne(CubeOfYoungs()).surface.mass_scaling, 0.01);
+  XmlRpcValue object = CubeOfYoungs();
+  object["mass_scaling"] = 0.0;
+  EXPECT_EQ(ReadOne(object).surface.mass_scaling, 0.0);
+  for (const double bad : {-0.01, 0.5}) {
+    object["mass_scaling"] = bad;
+    EXPECT_CONTAINS(Error(object), "parameter ~objects[0]/mass_scaling: must lie in [0, 0.1]");
+  }
+  object["mass_scaling"] = std::nan("");
+  EXPECT_CONTAINS(Error(object), "parameter ~objects[0]/mass_scaling: must be finite");
+}
+
 }  // namespace
 }  // namespace msm_sim::ros_interface
