@@ -113,16 +113,18 @@ struct GripArguments {
 /// `msm_lab grasp`: a parallel gripper closes on an object, holds and lifts it
 /// (core::RunGraspExperiment; its defaults).
 struct GraspArguments {
-  std::string shape = "box";            ///< box | sphere | cylinder | ellipsoid | mesh
-  double radius = 0.0;                  ///< m, sphere and cylinder
-  double length = 0.0;                  ///< m, cylinder (its axis along y, across the pads)
-  double friction = 0.8;                ///< mu between the object and the pads (and the ground)
-  double force_ratio = 1.5;             ///< Q = 2 mu F_n / (m g)
-  double lift = 0.05;                   ///< m
-  double lift_time = 1.0;               ///< s
-  double damping = 1e-3;                ///< s, spring dampers c = beta k
-  double orientation_threshold = 0.2;   ///< 0 (off) or in (0, 1): core::BodyOptions
-  std::string integrator = "explicit";  ///< explicit | implicit
+  std::string shape = "box";           ///< box | sphere | cylinder | ellipsoid | mesh
+  double radius = 0.0;                 ///< m, sphere and cylinder
+  double length = 0.0;                 ///< m, cylinder (its axis along y, across the pads)
+  double friction = 0.8;               ///< mu between the object and the pads (and the ground)
+  double force_ratio = 1.5;            ///< Q = 2 mu F_n / (m g)
+  double lift = 0.05;                  ///< m
+  double lift_time = 1.0;              ///< s
+  double damping = 1e-3;               ///< s, spring dampers c = beta k
+  double orientation_threshold = 0.2;  ///< 0 (off) or in (0, 1): core::BodyOptions
+  /// implicit | explicit: implicit by default, the faster of the two on grasp-sized rubber
+  /// objects (docs/design/mass-scaling.md, docs/validation.md "Grasp scene").
+  std::string integrator = "implicit";
 };
 
 /// `msm_lab squeeze`: an object between two rigid flat plates closing on it
