@@ -58,7 +58,6 @@ set(MSM_SIM_CORE_SOURCES
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_stiffness.cpp
   ${MSM_SIM_DIR}/src/mechanics/force_evaluator_runs_stiffness.cpp
   ${MSM_SIM_DIR}/src/mechanics/linearization_kernels.cpp
-  ${MSM_SIM_DIR}/src/mechanics/masked_bicgstab.cpp
   ${MSM_SIM_DIR}/src/mechanics/masked_pcg.cpp
   ${MSM_SIM_DIR}/src/mechanics/node_shares.cpp
   ${MSM_SIM_DIR}/src/mechanics/momentum_flow.cpp

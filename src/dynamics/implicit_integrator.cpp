@@ -42,15 +42,6 @@ Eigen::Matrix3Xd InverseSystemDiagonal(const ForceEvaluator& evaluator,
 
 }  // namespace
 
-void RequireIntegrable(const WorldOptions& options, const Body& body) {
-  internal::Require(
-      options.integrator != Integrator::kImplicit || body.evaluator.stiffness_is_symmetric(),
-      "body '" + body.name +
-          "': the implicit integrator needs a symmetric stiffness (conjugate "
-          "gradient), and carrier springs with eMSM dispersion have none; use "
-          "linear springs, no dispersion, or the explicit integrator");
-}
-
 Eigen::Matrix3Xd ImplicitIntegrator::PrescribedVelocityChanges(const Body& body, double h,
                                                                double t0) {
   Eigen::Matrix3Xd changes = Eigen::Matrix3Xd::Zero(3, body.model->num_nodes());

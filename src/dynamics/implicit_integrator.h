@@ -45,10 +45,6 @@ struct ContactNormal {
   Eigen::Vector3d sliding_impulse;  // N s, on the node
 };
 
-/// Throws std::invalid_argument if the world is implicit and the body's stiffness is not
-/// symmetric (conjugate gradient needs a symmetric system).
-void RequireIntegrable(const WorldOptions& options, const Body& body);
-
 /// The implicit kick of a WorldState's bodies.
 class ImplicitIntegrator {
  public:

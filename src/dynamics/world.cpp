@@ -74,7 +74,6 @@ int World::AddBody(const std::string& name, std::shared_ptr<const Model> model,
   Require(model != nullptr, "body '" + name + "' has no model");
   ValidateBodyOptions(name, options);
   Body body(name, model, options, state_->options);
-  internal::RequireIntegrable(state_->options, body);
   body.pair_friction.assign(state_->colliders.size(), -1.0);
   body.wrenches.assign(state_->colliders.size(), ContactWrench{});
   state_->bodies.push_back(std::move(body));
@@ -181,7 +180,6 @@ void World::ReplaceModel(int body_index, std::shared_ptr<const Model> model,
           "the new model has " + std::to_string(model->num_nodes()) + " nodes, the body " +
               std::to_string(old.model->num_nodes()));
   Body body(old.name, model, options, state_->options);
-  internal::RequireIntegrable(state_->options, body);
   body.state = old.state;
   body.groups = old.groups;
   body.constrained = old.constrained;

@@ -3,6 +3,7 @@
 // Baudet elements; docs/physics.md §3).
 
 #include <cmath>
+#include <type_traits>
 
 #include "mechanics/share_plan.h"
 #include "mechanics/spring_law_dispatch.h"
@@ -80,23 +81,31 @@ void ForceEvaluator::InflowPass(const Law& law, const Eigen::Matrix3Xd& position
   const double* __restrict inflow_b = dispersion_.inflow_b.data();
   double* __restrict tensions = per_spring_.tensions.data();
   double* __restrict inverse_lengths = per_spring_.inverse_lengths.data();
+  constexpr bool kWeighted = !std::is_same_v<Law, LinearSpringLaw>;
+  if (kWeighted) per_spring_.tangent_ratios.resize(model_->num_springs());
+  double* __restrict ratios = per_spring_.tangent_ratios.data();
   dispersion_.accumulator.setZero();
-  plan_->ForSpringShares(model_->num_springs(), dispersion_.accumulator.data(),
-                         dispersion_.accumulator.size(),
-                         [&](int begin, int end, double* __restrict accumulator) {
-                           for (int s = begin; s < end; ++s) {
-                             double r[3];
-                             const double length = Separation(x, springs.a[s], springs.b[s], r);
-                             const double t = law.Tension(springs.k[s], springs.rest[s], length);
-                             tensions[s] = t;
-                             inverse_lengths[s] = 1.0 / length;
-                             accumulator[springs.a[s]] += inflow_a[s] * t;
-                             accumulator[springs.b[s]] += inflow_b[s] * t;
-                           }
-                         });
+  plan_->ForSpringShares(
+      model_->num_springs(), dispersion_.accumulator.data(), dispersion_.accumulator.size(),
+      [&](int begin, int end, double* __restrict accumulator) {
+        for (int s = begin; s < end; ++s) {
+          double r[3];
+          const double length = Separation(x, springs.a[s], springs.b[s], r);
+          const double t = law.Tension(springs.k[s], springs.rest[s], length);
+          tensions[s] = t;
+          inverse_lengths[s] = 1.0 / length;
+          if constexpr (kWeighted) {
+            ratios[s] = law.TangentStiffness(springs.k[s], springs.rest[s], length) / springs.k[s];
+          }
+          accumulator[springs.a[s]] += inflow_a[s] * t;
+          accumulator[springs.b[s]] += inflow_b[s] * t;
+        }
+      });
 }
 
-template <bool Damped>
+// Weighted (non-linear laws): the dispersed tension scaled by t' / k, which makes it the
+// gradient of Phi = sum J^2 / (2 q W) for any law (docs/physics.md §3).
+template <bool Damped, bool Weighted>
 void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
                                  Eigen::Matrix3Xd* forces) {
   const SpringArrays springs = Arrays(*model_);
@@ -106,24 +115,30 @@ void ForceEvaluator::OutflowPass(const Eigen::Matrix3Xd& positions, const Dampin
   const double* __restrict outflow_b = dispersion_.outflow_b.data();
   const double* __restrict tensions = per_spring_.tensions.data();
   const double* __restrict inverse_lengths = per_spring_.inverse_lengths.data();
+  const double* __restrict ratios = per_spring_.tangent_ratios.data();
   double* __restrict total = totals_.model_order.data();
-  plan_->ForSpringShares(model_->num_springs(), forces->data(), forces->size(),
-                         [&](int begin, int end, double* __restrict f) {
-                           for (int s = begin; s < end; ++s) {
-                             const int a = springs.a[s];
-                             const int b = springs.b[s];
-                             double t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
-                             // Recomputing r from positions still in cache is cheaper than
-                             // streaming stored directions.
-                             double r[3];
-                             for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
-                             if constexpr (Damped)
-                               t +=
-                                   DampingTension(damping, springs, s, r, 1.0 / inverse_lengths[s]);
-                             total[s] = t;
-                             ApplyPair(f, a, b, t * inverse_lengths[s], r);
-                           }
-                         });
+  plan_->ForSpringShares(
+      model_->num_springs(), forces->data(), forces->size(),
+      [&](int begin, int end, double* __restrict f) {
+        for (int s = begin; s < end; ++s) {
+          const int a = springs.a[s];
+          const int b = springs.b[s];
+          double t;
+          if constexpr (Weighted) {
+            t = tensions[s] + ratios[s] * (outflow_a[s] * g[a] + outflow_b[s] * g[b]);
+          } else {
+            t = tensions[s] + outflow_a[s] * g[a] + outflow_b[s] * g[b];
+          }
+          // Recomputing r from positions still in cache is cheaper than
+          // streaming stored directions.
+          double r[3];
+          for (int i = 0; i < 3; ++i) r[i] = x[3 * b + i] - x[3 * a + i];
+          if constexpr (Damped)
+            t += DampingTension(damping, springs, s, r, 1.0 / inverse_lengths[s]);
+          total[s] = t;
+          ApplyPair(f, a, b, t * inverse_lengths[s], r);
+        }
+      });
 }
 
 void ForceEvaluator::CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces) {
@@ -166,7 +181,11 @@ void ForceEvaluator::AccumulatePerSpringImpl(const Eigen::Matrix3Xd& positions,
   // plus dispersed tension at once.
   internal::VisitSpringLaw(*model_, [&](const auto& law) { InflowPass(law, positions); });
   dispersion_.per_weight = dispersion_.accumulator.cwiseProduct(dispersion_.inverse_star_weight);
-  OutflowPass<Damped>(positions, damping, forces);
+  if (model_->spring_law() == SpringLaw::kLinear) {
+    OutflowPass<Damped, false>(positions, damping, forces);
+  } else {
+    OutflowPass<Damped, true>(positions, damping, forces);
+  }
   if (!model_->correction_edges().empty()) CorrectionPass(positions, forces);
   if (barrier_) barrier_->AccumulateForces(positions, forces, &barrier_reference_);
 }

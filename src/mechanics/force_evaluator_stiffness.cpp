@@ -56,17 +56,28 @@ double ForceEvaluator::ElasticEnergy(const Eigen::Matrix3Xd& positions) const {
   return barrier_ ? springs + barrier_->Energy(positions) : springs;
 }
 
+// With a non-linear law and dispersion, also the dispersed tension's slope at fixed g (g of the
+// evaluation at `positions`), dropped where negative unless `exact`, as compressed springs'
+// geometric term is (docs/physics.md §3, §7.1).
 template <class Law>
-void ForceEvaluator::LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& positions) {
+void ForceEvaluator::LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& positions, bool exact) {
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const auto& rest = model_->spring_rest_length();
   const auto& k = model_->spring_stiffness();
+  const bool slopes =
+      model_->dispersion_fraction() != 0.0 && model_->spring_law() != SpringLaw::kLinear;
+  per_spring_.dispersed_slopes.resize(slopes ? model_->num_springs() : 0);
+  const Eigen::VectorXd& g = dispersion_.per_weight;
   for (int s = 0; s < model_->num_springs(); ++s) {
     const Eigen::Vector3d r = positions.col(b[s]) - positions.col(a[s]);
     per_spring_.lengths[s] = r.norm();
     per_spring_.directions.col(s) = r / per_spring_.lengths[s];
     per_spring_.tangent_stiffness[s] = law.TangentStiffness(k[s], rest[s], per_spring_.lengths[s]);
+    if (!slopes) continue;
+    const double slope = law.Curvature(k[s], rest[s], per_spring_.lengths[s]) / k[s] *
+                         (dispersion_.outflow_a[s] * g[a[s]] + dispersion_.outflow_b[s] * g[b[s]]);
+    per_spring_.dispersed_slopes[s] = exact ? slope : std::max(slope, 0.0);
   }
 }
 
@@ -91,12 +102,13 @@ void ForceEvaluator::LinearizePerSpring(const Eigen::Matrix3Xd& positions,
   const Eigen::VectorXd saved_dispersion = dispersion_.per_weight;
   Eigen::Matrix3Xd scratch = Eigen::Matrix3Xd::Zero(3, model_->num_nodes());
   AccumulateForces(positions, &scratch);
-  dispersion_.per_weight = saved_dispersion;
   const int count = model_->num_springs();
   per_spring_.directions.resize(3, count);
   per_spring_.lengths.resize(count);
   per_spring_.tangent_stiffness.resize(count);
-  internal::VisitSpringLaw(*model_, [&](const auto& law) { LinearizeImpl(law, positions); });
+  const bool exact = geometric == GeometricStiffness::kExact;
+  internal::VisitSpringLaw(*model_, [&](const auto& law) { LinearizeImpl(law, positions, exact); });
+  dispersion_.per_weight = saved_dispersion;
   per_spring_.geometric_tensions =
       geometric == GeometricStiffness::kExact ? total_tensions() : total_tensions().cwiseMax(0.0);
 }
@@ -251,9 +263,16 @@ void ForceEvaluator::ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matr
   ApplyCorrectionStiffness(v, out);
   if (!disperse) return;
   const Eigen::VectorXd dg = accumulator_change.cwiseProduct(dispersion_.inverse_star_weight);
+  const bool weighted = per_spring_.dispersed_slopes.size() != 0;
+  const auto& k = model_->spring_stiffness();
   for (int s = 0; s < model_->num_springs(); ++s) {
-    const double dt_dispersed =
-        dispersion_.outflow_a[s] * dg[a[s]] + dispersion_.outflow_b[s] * dg[b[s]];
+    double dt_dispersed = dispersion_.outflow_a[s] * dg[a[s]] + dispersion_.outflow_b[s] * dg[b[s]];
+    if (weighted) {
+      // t* = (t' / k) (outflow . g): dt* = (t' / k) (outflow . dg) + slope dL.
+      const double stretch_rate = per_spring_.directions.col(s).dot(v.col(b[s]) - v.col(a[s]));
+      dt_dispersed = per_spring_.tangent_stiffness[s] / k[s] * dt_dispersed +
+                     per_spring_.dispersed_slopes[s] * stretch_rate;
+    }
     const Eigen::Vector3d df = dt_dispersed * per_spring_.directions.col(s);
     out->col(a[s]) -= df;
     out->col(b[s]) += df;
@@ -296,6 +315,8 @@ Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
   const auto& a = model_->spring_node_a();
   const auto& b = model_->spring_node_b();
   const bool disperse = model_->dispersion_fraction() != 0.0;
+  const bool weighted = per_spring_.dispersed_slopes.size() != 0;
+  const auto& k = model_->spring_stiffness();
   const int n = model_->num_nodes();
   Eigen::Matrix3Xd diagonal = Eigen::Matrix3Xd::Zero(3, n);
   // Dispersion couples node a to itself through J_a: (1 / W_a) s1 s2^T with s1 = sum (w / L0) u
@@ -311,13 +332,19 @@ Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
     diagonal.col(a[s]) += block;
     diagonal.col(b[s]) += block;
     if (disperse) {
+      // The outflow weighted by t' / k and the dispersed tension's own slope (non-linear laws).
+      const double ratio = weighted ? kt / k[s] : 1.0;
+      if (weighted) {
+        diagonal.col(a[s]) += per_spring_.dispersed_slopes[s] * u2;
+        diagonal.col(b[s]) += per_spring_.dispersed_slopes[s] * u2;
+      }
       // And through J of the other end, which holds this spring's own inflow.
-      diagonal.col(a[s]) += kt * dispersion_.outflow_b[s] * dispersion_.inflow_b[s] *
+      diagonal.col(a[s]) += ratio * kt * dispersion_.outflow_b[s] * dispersion_.inflow_b[s] *
                             dispersion_.inverse_star_weight[b[s]] * u2;
-      diagonal.col(b[s]) += kt * dispersion_.outflow_a[s] * dispersion_.inflow_a[s] *
+      diagonal.col(b[s]) += ratio * kt * dispersion_.outflow_a[s] * dispersion_.inflow_a[s] *
                             dispersion_.inverse_star_weight[a[s]] * u2;
-      s1.col(a[s]) += dispersion_.outflow_a[s] * u;
-      s1.col(b[s]) -= dispersion_.outflow_b[s] * u;
+      s1.col(a[s]) += ratio * dispersion_.outflow_a[s] * u;
+      s1.col(b[s]) -= ratio * dispersion_.outflow_b[s] * u;
       s2.col(a[s]) += dispersion_.inflow_a[s] * kt * u;
       s2.col(b[s]) -= dispersion_.inflow_b[s] * kt * u;
     }
@@ -327,9 +354,16 @@ Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
       diagonal.col(i) += dispersion_.inverse_star_weight[i] * s1.col(i).cwiseProduct(s2.col(i));
     }
   }
-  // Correction: at a node, an edge along one axis responds to the elongation of the element's
-  // edges along the other axes through the same node: c sum w_f w_e over such pairs (f, e), with
-  // w pointing away from the node.
+  AddCorrectionStiffnessDiagonal(&diagonal);
+  return diagonal;
+}
+
+void ForceEvaluator::AddCorrectionStiffnessDiagonal(Eigen::Matrix3Xd* diagonal) const {
+  // At a node, an edge along one axis responds to the elongation of the element's edges along
+  // the other axes through the same node: c sum w_f w_e over such pairs (f, e), with w pointing
+  // away from the node.
+  const auto& a = model_->spring_node_a();
+  const auto& b = model_->spring_node_b();
   const auto& edges = model_->correction_edges();
   for (std::size_t e = 0; e < edges.size(); ++e) {
     for (int f = 0; f < 12; ++f) {
@@ -341,12 +375,11 @@ Eigen::Matrix3Xd ForceEvaluator::SpringStiffnessDiagonal() const {
           if (node != a[sg] && node != b[sg]) continue;
           const Eigen::Vector3d wf = (node == a[sf] ? 1.0 : -1.0) * per_spring_.directions.col(sf);
           const Eigen::Vector3d wg = (node == a[sg] ? 1.0 : -1.0) * per_spring_.directions.col(sg);
-          diagonal.col(node) += model_->correction_coefficients()[e] * wf.cwiseProduct(wg);
+          diagonal->col(node) += model_->correction_coefficients()[e] * wf.cwiseProduct(wg);
         }
       }
     }
   }
-  return diagonal;
 }
 
 }  // namespace msm_sim::core

@@ -28,8 +28,8 @@ std::array<CellSpring, 9> CellSprings() {
 constexpr double kStarWeight = 30.0;
 
 // The Cauchy stress (units of κ / a) of the cell stretched by diag(axial, lateral, lateral):
-// the springs' tensions t plus the dispersed tension t* = k L0 · 2 J / W, J = q Σ_star L0 t
-// (docs/physics.md §3, equal weights in the interior).
+// the springs' tensions t plus the dispersed tension t* = t'(L) L0 · 2 J / W, J = q Σ_star L0 t
+// (k = 1; docs/physics.md §3, equal weights in the interior).
 Eigen::Matrix3d CellStress(double axial, double lateral, double q, const PowerSpringLaw& law) {
   const Eigen::Vector3d stretch(axial, lateral, lateral);
   const std::array<CellSpring, 9> springs = CellSprings();
@@ -45,7 +45,8 @@ Eigen::Matrix3d CellStress(double axial, double lateral, double q, const PowerSp
   for (std::size_t i = 0; i < springs.size(); ++i) {
     const double l0 = springs[i].rest.norm();
     const Eigen::Vector3d current = stretch.cwiseProduct(springs[i].rest);
-    const double total = tension[i] + l0 * 2.0 * inflow / kStarWeight;
+    const double tangent = law.TangentStiffness(1.0, l0, current.norm());
+    const double total = tension[i] + tangent * l0 * 2.0 * inflow / kStarWeight;
     stress += total * current * current.transpose() / current.norm();
   }
   return stress / stretch.prod();

@@ -1,7 +1,7 @@
 #pragma once
-// Private to msm_sim_core: the Krylov solvers on 3 x N node arrays with some DOFs held fixed,
-// one operator type for all: conjugate gradient for World's implicit substep (docs/physics.md
-// §7.1) and the static solver's symmetric Newton systems, BiCGSTAB for its unsymmetric ones.
+// Private to msm_sim_core: the Krylov solver on 3 x N node arrays with some DOFs held fixed:
+// conjugate gradient for World's implicit substep (docs/physics.md §7.1) and the static solver's
+// Newton systems, and the operator type both and the stable time step's eigenvalue search take.
 
 #include <functional>
 #include <vector>
@@ -89,15 +89,5 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
                                const Eigen::Matrix3Xd& inverse_diagonal,
                                const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
                                Eigen::Matrix3Xd* residual);
-
-/// Solves A x = b on the free DOFs (free(d, i) == 1) by BiCGSTAB, right-preconditioned by the
-/// diagonal `inverse_diagonal`, from *x = 0: for an A that is not symmetric (the static solver's
-/// Newton systems with carrier or power-law springs and dispersion). The fixed entries of *x stay
-/// 0. Stops at |b - A x| <= options.relative_tolerance |b| on the free DOFs, after
-/// options.max_iterations iterations (two products with A each), or at a breakdown (unconverged).
-MaskedPcgReport SolveMaskedBiCgStab(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
-                                    const Eigen::Matrix3Xd& free,
-                                    const Eigen::Matrix3Xd& inverse_diagonal,
-                                    const MaskedPcgOptions& options, Eigen::Matrix3Xd* x);
 
 }  // namespace msm_sim::core

@@ -145,22 +145,6 @@ double LargestEigenvalueByRayleighRitz(const NodeArrayOperator& stiffness,
   return LargestRitzValue(basis, products);
 }
 
-// Carrier springs with dispersion: K is not symmetric; power iteration, with a margin because
-// it approaches lambda_max from below.
-double LargestEigenvalueByPowerIteration(const NodeArrayOperator& stiffness, Eigen::Matrix3Xd v) {
-  double lambda = 0.0;
-  Eigen::Matrix3Xd av(3, v.cols());
-  for (int iteration = 0; iteration < 300; ++iteration) {
-    stiffness(v, &av);
-    const double next = av.norm();
-    v = av / next;
-    const bool converged = std::abs(next - lambda) <= 1e-5 * next;
-    lambda = next;
-    if (converged && iteration > 20) break;
-  }
-  return lambda * 1.05;  // power iteration approaches from below (docs/physics.md §7)
-}
-
 // The factor on K's eigenvalues: the largest tangent over k for stretches s in [c, S] (c =
 // min_compression, S = max_stretch). Carrier springs: (L0 / L)^2, largest at c. The power law
 // (docs/physics.md §4.1): s^(alpha-1) + 3 beta (s-1)^2, each term largest at c or S, so the sum
@@ -276,15 +260,11 @@ double StableTimeStep(const Model& model, const StableTimeStepOptions& options) 
     start /= start.norm();
   }
   const double stiffening = Stiffening(model, options);
-  const bool symmetric = evaluator.stiffness_is_symmetric();
-  const double lambda =
-      stiffening * (symmetric ? LargestEigenvalueByRayleighRitz(stiffness, start)
-                              : LargestEigenvalueByPowerIteration(stiffness, start));
+  const double lambda = stiffening * LargestEigenvalueByRayleighRitz(stiffness, start);
   if (options.damping_beta == 0.0) return options.safety * 2.0 / std::sqrt(lambda);
   const NodeArrayOperator dampers = MassScaled(DamperMatrix(model), model.masses(), free);
   const double lambda_damper = LargestEigenvalueByRayleighRitz(dampers, start);
   const double sufficient = StepForLargestEigenvalues(lambda, lambda_damper, options.damping_beta);
-  if (!symmetric) return options.safety * sufficient;
   return options.safety * SharpDampedStep(stiffness, stiffening, dampers, options.damping_beta,
                                           start, sufficient, 2.0 / std::sqrt(lambda));
 }

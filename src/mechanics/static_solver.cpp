@@ -25,10 +25,10 @@ Eigen::VectorXd FreeResidual(ForceEvaluator* evaluator, const Eigen::Matrix3Xd& 
 double MaxAbs(const Eigen::VectorXd& v) { return v.size() == 0 ? 0.0 : v.cwiseAbs().maxCoeff(); }
 
 // The Newton step: solves K dx = residual on the free DOFs at the current linearisation, with
-// conjugate gradient when K is symmetric and BiCGSTAB when it is not, both preconditioned by the
-// exact diagonal. A tiny shift of K keeps rigid or floppy modes the constraints leave free from
-// stalling the Krylov solver; the residual is evaluated exactly, so it changes the path, not the
-// answer. Adds the Krylov iterations to *linear_iterations.
+// conjugate gradient (K is symmetric for every spring law, docs/physics.md §3), preconditioned
+// by the exact diagonal. A tiny shift of K keeps rigid or floppy modes the constraints leave free
+// from stalling the Krylov solver; the residual is evaluated exactly, so it changes the path, not
+// the answer. Adds the Krylov iterations to *linear_iterations.
 Eigen::VectorXd NewtonStep(const ForceEvaluator& evaluator, const std::vector<int>& free_dofs,
                            const Eigen::VectorXd& residual, const StaticSolverOptions& options,
                            int* linear_iterations) {
@@ -53,9 +53,7 @@ Eigen::VectorXd NewtonStep(const ForceEvaluator& evaluator, const std::vector<in
   krylov.max_iterations = options.max_linear_iterations;
   Eigen::Matrix3Xd step = Eigen::Matrix3Xd::Zero(3, n), unused;
   const MaskedPcgReport report =
-      evaluator.stiffness_is_symmetric()
-          ? SolveMaskedPcg(apply, b, free, inverse_diagonal, krylov, &step, &unused)
-          : SolveMaskedBiCgStab(apply, b, free, inverse_diagonal, krylov, &step);
+      SolveMaskedPcg(apply, b, free, inverse_diagonal, krylov, &step, &unused);
   *linear_iterations += report.iterations;
   Eigen::VectorXd free_step(free_dofs.size());
   for (std::size_t i = 0; i < free_dofs.size(); ++i) free_step[i] = step.data()[free_dofs[i]];

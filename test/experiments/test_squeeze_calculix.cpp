@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -171,22 +172,33 @@ TEST(SqueezeCalculix, LinearSpringsAt3mm) {
   }
 }
 
-// The power law fitted to the neo-Hookean uniaxial curve, 3 mm, to 12 %: beyond about 13 %
-// (nu 0.49) the explicit run loses stability (docs/design/squeeze-vs-fem.md). The force within
-// 12 % of CalculiX's, the patch radius within one spacing. The 5 % is not met: the force
-// dips below CalculiX's while the patch grows from one terrace to the next.
-TEST(SqueezeCalculix, FittedPowerLawAt3mmTo12Percent) {
+// The power law fitted to the neo-Hookean uniaxial curve, 3 mm, to 30 % (docs/design/
+// squeeze-vs-fem.md): nothing folds, the patch radius within one spacing, the force within 10 %
+// of CalculiX's from 3 % to 20 % of the diameter, above it by less than 20 % below 3 % (a patch of
+// one or a few nodes) and below it by less than 20 % up to 30 %. The 5 % is not met
+// everywhere: the force dips while the patch grows from one terrace to the next, and falls
+// behind the neo-Hookean solid's past 22 %. The two Poisson's ratios run at once.
+TEST(SqueezeCalculix, FittedPowerLawAt3mmTo30Percent) {
+  std::vector<std::future<SqueezeExperimentResult>> runs;
   for (const Case& c : kCases) {
+    runs.push_back(std::async(std::launch::async, [c] {
+      const TensileFitResult fit =
+          FitNeoHookean(c.poisson, "neo_hookean_259kpa_nu" + c.name + "_tensile.csv");
+      return SqueezeSphere(fit.youngs, c.poisson, &fit.law, 0.30);
+    }));
+  }
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const Case& c = kCases[i];
     SCOPED_TRACE("nu " + c.name);
-    const TensileFitResult fit =
-        FitNeoHookean(c.poisson, "neo_hookean_259kpa_nu" + c.name + "_tensile.csv");
     const auto reference = ReadReference("calculix_squeeze_nu" + c.name + ".csv");
-    const SqueezeExperimentResult result = SqueezeSphere(fit.youngs, c.poisson, &fit.law, 0.12);
+    const SqueezeExperimentResult result = runs[i].get();
     ASSERT_EQ(result.folded_corners, 0);
-    const Errors errors = Compare(result, reference, 0.12);
+    ASSERT_GT(result.profile.size(), 25u);
+    const Errors errors = Compare(result, reference, 0.30);
     EXPECT_LT(errors.radius, kSpacing);
-    EXPECT_LT(errors.force_max, 0.12);
-    EXPECT_GT(errors.force_min, -0.12);
+    EXPECT_LT(errors.force_max, 0.20);
+    EXPECT_GT(errors.force_min, -0.20);
+    EXPECT_LT(LargestErrorBetween(result, reference, 0.03, 0.20), 0.10);
   }
 }
 

@@ -1,5 +1,5 @@
-// The node-array Krylov solvers (masked CG of the implicit substep, BiCGSTAB of the static
-// solver) against dense solves.
+// The node-array Krylov solver (masked CG of the implicit substep and of the static solver)
+// against dense solves.
 #include <cmath>
 #include <vector>
 
@@ -169,36 +169,6 @@ TEST(MaskedPcg, EarlyStopNeedsBothTheEarlyToleranceAndTheCallersAcceptance) {
   EXPECT_EQ(refused.iterations, full.iterations);
   EXPECT_LE(refused.relative_residual, 1e-12);
   for (const double residual : seen) EXPECT_LE(residual, 1e-2);
-}
-
-TEST(MaskedBiCgStab, MatchesADenseSolveOfAnUnsymmetricSystemOnTheFreeDofs) {
-  // An unsymmetric, diagonally dominant 12 x 12 matrix: the SPD one plus a skew part.
-  Eigen::MatrixXd a = TinySpdMatrix();
-  for (int i = 0; i < 12; ++i) {
-    for (int j = 0; j < i; ++j) {
-      a(i, j) += 0.3 * std::cos(2.0 + i - 5.0 * j);
-      a(j, i) -= 0.3 * std::cos(2.0 + i - 5.0 * j);
-    }
-  }
-  Eigen::Matrix3Xd b(3, 4);
-  b << 1.0, -2.0, 0.5, 3.0, 0.0, 1.5, -1.0, 2.0, 4.0, -0.5, 1.0, 0.25;
-  Eigen::Matrix3Xd free = Eigen::Matrix3Xd::Ones(3, 4);
-  free.col(2).setZero();
-  const SplitSystem split = SplitByFree(a, b, free);
-  const std::vector<int>& f = split.free;
-  const Eigen::VectorXd expected = split.a_ff.partialPivLu().solve(split.b_f);
-
-  const Eigen::Matrix3Xd inverse_diagonal = InverseDiagonal(a);
-  MaskedPcgOptions options;
-  options.relative_tolerance = 1e-12;
-  options.max_iterations = 200;
-  Eigen::Matrix3Xd x;
-  const MaskedPcgReport report =
-      SolveMaskedBiCgStab(DenseOperator(a), b, free, inverse_diagonal, options, &x);
-  EXPECT_TRUE(report.converged);
-  EXPECT_LE(report.relative_residual, 1e-12);
-  for (std::size_t i = 0; i < f.size(); ++i) EXPECT_NEAR(x.data()[f[i]], expected[i], 1e-9);
-  EXPECT_EQ(x.col(2), Eigen::Vector3d::Zero());
 }
 
 }  // namespace

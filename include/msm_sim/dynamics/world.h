@@ -49,9 +49,8 @@ class StepLoop;     // dynamics/step_loop.h (private)
 /// and the dampers at v + dv, to first order: for a potential convex along the step the kick never
 /// adds energy, and every mode (a = h omega) is damped, stable at any h. Each free border node's
 /// deepest collider contact is held in the solve, with its Coulomb friction (docs/physics.md
-/// §7.1 "Contacts in the solve"). Steps 1-2 and 5-7 are unchanged. Limits: carrier springs with
-/// eMSM dispersion (non-symmetric K) are refused; vibrations are damped numerically (a damping
-/// ratio of about a/4 for a << 1).
+/// §7.1 "Contacts in the solve"). Steps 1-2 and 5-7 are unchanged. Limits: vibrations are
+/// damped numerically (a damping ratio of about a/4 for a << 1).
 ///
 /// Step() subdivides the caller's step into stable substeps (implicit: substeps of at most
 /// implicit_max_substep), and either advances everything or,
@@ -69,9 +68,7 @@ class World {
   World& operator=(World&&) noexcept;
 
   /// Adds a body at rest at the model's rest positions; returns its index. Throws
-  /// std::invalid_argument for out-of-range options, and in an implicit world for a model whose
-  /// stiffness is not symmetric (carrier springs with eMSM dispersion: conjugate gradient needs
-  /// a symmetric system).
+  /// std::invalid_argument for out-of-range options.
   int AddBody(const std::string& name, std::shared_ptr<const Model> model,
               const BodyOptions& options = {});
   /// Adds a collider; returns its index. Its pose and twist may be changed between steps.

@@ -37,6 +37,12 @@ struct PowerSpringLaw {
     return k * (std::pow(s, alpha - 1.0) + 3.0 * beta * d * d);
   }
 
+  /// d^2t/dL^2 (N/m^2).
+  double Curvature(double k, double l0, double l) const {
+    const double s = l / l0;
+    return k / l0 * ((alpha - 1.0) * std::pow(s, alpha - 2.0) + 6.0 * beta * (s - 1.0));
+  }
+
   /// Stored energy (J), the integral of Tension from l0 to l (docs/physics.md §4.1):
   /// W = k L0^2 [ ((s^(alpha+1) - 1) / (alpha+1) - (s - 1)) / alpha + beta (s - 1)^4 / 4 ].
   double Energy(double k, double l0, double l) const {

@@ -22,12 +22,14 @@ enum class SpringLaw {
 /// (alpha, beta) from elsewhere (a scene's tensile_law, msm_lab --alpha / --beta).
 bool ParseSpringLaw(const std::string& name, SpringLaw* law);
 
-/// The laws as types with Tension (N, > 0 stretched), TangentStiffness (dt/dL, N/m) and Energy
-/// (J) of a spring of stiffness k, rest length l0 and length l: the force loops are templated on
-/// them (PowerSpringLaw, power_spring_law.h, is the third), so the law is chosen once per loop.
+/// The laws as types with Tension (N, > 0 stretched), TangentStiffness (dt/dL, N/m), Curvature
+/// (d^2t/dL^2, N/m^2) and Energy (J) of a spring of stiffness k, rest length l0 and length l: the
+/// force loops are templated on them (PowerSpringLaw, power_spring_law.h, is the third), so the
+/// law is chosen once per loop.
 struct LinearSpringLaw {
   static double Tension(double k, double l0, double l) { return k * (l - l0); }
   static double TangentStiffness(double k, double, double) { return k; }
+  static double Curvature(double, double, double) { return 0.0; }
   static double Energy(double k, double l0, double l) {
     const double stretch = l - l0;
     return 0.5 * k * stretch * stretch;
@@ -37,6 +39,9 @@ struct LinearSpringLaw {
 struct CarrierSpringLaw {
   static double Tension(double k, double l0, double l) { return k * l0 * (l - l0) / l; }
   static double TangentStiffness(double k, double l0, double l) { return k * l0 * l0 / (l * l); }
+  static double Curvature(double k, double l0, double l) {
+    return -2.0 * k * l0 * l0 / (l * l * l);
+  }
   static double Energy(double k, double l0, double l) {
     const double stretch = l - l0;
     return k * l0 * l0 * (stretch / l0 - std::log1p(stretch / l0));

@@ -136,19 +136,12 @@ class ForceEvaluator {
   /// StiffnessDiagonal (with the geometric stiffness `geometric` asks for).
   void Linearize(const Eigen::Matrix3Xd& positions,
                  GeometricStiffness geometric = GeometricStiffness::kExact);
-  /// out = K v with K = -d(forces)/d(positions) at the last Linearize. K is symmetric except
-  /// for carrier or power-law springs with dispersion (stiffness_is_symmetric). Precondition:
-  /// Linearize was called; v and out are 3 x N. Uses the evaluator's scratch: not for concurrent
-  /// calls.
+  /// out = K v with K = -d(forces)/d(positions) at the last Linearize: the Hessian of
+  /// ElasticEnergy, symmetric for every spring law (docs/physics.md §3). Precondition: Linearize
+  /// was called; v and out are 3 x N. Uses the evaluator's scratch: not for concurrent calls.
   void ApplyStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The diagonal of K (3 x N) at the last Linearize, exact.
   Eigen::Matrix3Xd StiffnessDiagonal() const;
-  /// K is symmetric without dispersion, and with it for linear springs (the dispersion then has
-  /// a potential); with carrier or power-law springs the inflow follows the tangent k' and the
-  /// outflow k.
-  bool stiffness_is_symmetric() const {
-    return model_->dispersion_fraction() == 0.0 || model_->spring_law() == SpringLaw::kLinear;
-  }
 
   const Model& model() const { return *model_; }
 
@@ -192,7 +185,7 @@ class ForceEvaluator {
                  Eigen::Matrix3Xd* forces);
   template <class Law>
   void InflowPass(const Law& law, const Eigen::Matrix3Xd& positions);
-  template <bool Damped>
+  template <bool Damped, bool Weighted>
   void OutflowPass(const Eigen::Matrix3Xd& positions, const Damping& damping,
                    Eigen::Matrix3Xd* forces);
   void CorrectionPass(const Eigen::Matrix3Xd& positions, Eigen::Matrix3Xd* forces);
@@ -201,6 +194,8 @@ class ForceEvaluator {
   void ApplySpringStiffness(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// StiffnessDiagonal without the orientation barrier.
   Eigen::Matrix3Xd SpringStiffnessDiagonal() const;
+  /// Adds the Baudet correction's part of the diagonal.
+  void AddCorrectionStiffnessDiagonal(Eigen::Matrix3Xd* diagonal) const;
   /// ApplyStiffness through the run kernels (linear springs, no Baudet elements).
   void ApplyStiffnessRuns(const Eigen::Matrix3Xd& v, Eigen::Matrix3Xd* out) const;
   /// The same in single precision (SpringPrecision::kSingle): v rounded to float, the products
@@ -211,7 +206,7 @@ class ForceEvaluator {
   template <class Law>
   double EnergyImpl(const Law& law, const Eigen::Matrix3Xd& positions) const;
   template <class Law>
-  void LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& positions);
+  void LinearizeImpl(const Law& law, const Eigen::Matrix3Xd& positions, bool exact);
   /// Linearize's per-spring path (models without the run kernels): a double two-pass
   /// evaluation, then each spring's u, L and tangent stiffness in model order.
   void LinearizePerSpring(const Eigen::Matrix3Xd& positions, GeometricStiffness geometric);
@@ -222,8 +217,9 @@ class ForceEvaluator {
   Eigen::Matrix3Xd ScheduledStiffnessDiagonal() const;
 
   // The eMSM dispersion (docs/physics.md §3), whatever the loops: per spring, inflow q v L0 and
-  // outflow w / L0 = v k L0 at each end, so that t*_s = outflow_a g_a + outflow_b g_b; per node
-  // 1 / W and the last evaluation's J and g = J / W.
+  // outflow w / L0 = v k L0 at each end, so that t*_s = (t'_s / k_s) (outflow_a g_a + outflow_b
+  // g_b), t'_s / k_s = 1 for linear springs; per node 1 / W and the last evaluation's J and
+  // g = J / W.
   struct Dispersion {
     Eigen::VectorXd inflow_a, inflow_b, outflow_a, outflow_b;
     Eigen::VectorXd inverse_star_weight;
@@ -234,9 +230,12 @@ class ForceEvaluator {
   struct PerSpringArrays {
     Eigen::VectorXd tensions;         // direct tensions of the two-pass evaluation
     Eigen::VectorXd inverse_lengths;  // 1 / L
-    // The linearisation: unit vectors a -> b, L, dt / dL and the geometric term's T.
+    Eigen::VectorXd tangent_ratios;   // t' / k of the two-pass evaluation (non-linear laws)
+    // The linearisation: unit vectors a -> b, L, dt / dL and the geometric term's T; with a
+    // non-linear law and dispersion, the dispersed tension's change with L at fixed g,
+    // (t'' / k) (outflow_a g_a + outflow_b g_b).
     Eigen::Matrix3Xd directions;
-    Eigen::VectorXd lengths, tangent_stiffness, geometric_tensions;
+    Eigen::VectorXd lengths, tangent_stiffness, geometric_tensions, dispersed_slopes;
   };
   // The double run kernels (models with a schedule): the springs in schedule order and scratch.
   struct DoubleRuns {

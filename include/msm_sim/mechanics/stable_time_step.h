@@ -43,13 +43,10 @@ struct StableTimeStepOptions {
 /// pencil's Rayleigh-Ritz projection on a Krylov basis of up to 60 vectors. All come from the
 /// exact stiffness, so they count the eMSM dispersion, Baudet's correction and any mass
 /// distribution; the per-node estimate min_i sqrt(m_i / sum_j k_ij) ignores the dispersion, which
-/// at nu = 0.49 stiffens the bulk mode 7-fold. Where K is symmetric (no dispersion, or linear
-/// springs with it) the eigenvalue is the largest Rayleigh-Ritz value on a Krylov (Lanczos) basis
-/// of up to 60 vectors, which converges in a few dozen products even where the top of the spectrum
-/// is clustered and never exceeds the true value. Only for carrier springs with dispersion, where K
-/// is not symmetric, does it fall back to power iteration (300 iterations at most), whose
-/// estimate approaches from below and is therefore raised by the factor 1.05, and keep the
-/// sufficient bound with dampers. For carrier springs omega_max is also raised by the stiffening of
+/// at nu = 0.49 stiffens the bulk mode 7-fold. The eigenvalue is the largest Rayleigh-Ritz value
+/// on a Krylov (Lanczos) basis of up to 60 vectors (K is symmetric for every spring law), which
+/// converges in a few dozen products even where the top of the spectrum is clustered and never
+/// exceeds the true value. For carrier springs omega_max is also raised by the stiffening of
 /// springs compressed to min_compression, for power-law springs by a bound on their tangent
 /// between min_compression and max_stretch. A model without springs, or whose nodes are all fixed,
 /// gives +infinity. Throws std::invalid_argument for options out of range (safety in (0, 1],

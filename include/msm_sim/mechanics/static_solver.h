@@ -33,14 +33,11 @@ struct StaticSolverReport {
 ///
 /// Newton's method: each iteration solves K dx = f for the free DOFs, K the exact linearisation
 /// of the forces applied matrix-free (ForceEvaluator::ApplyStiffness, exact two-pass dispersion),
-/// with
-/// conjugate gradient when K is symmetric (no dispersion, or linear springs with it) and
-/// BiCGSTAB when it is not (carrier springs with eMSM dispersion; see
-/// ForceEvaluator::stiffness_is_symmetric), both with a Jacobi preconditioner from the exact
-/// diagonal. K gets a tiny diagonal shift (1e-10 of its mean diagonal) so that rigid or floppy
-/// modes left free by the constraints do not stall the Krylov solver; because the residual is
-/// always evaluated exactly, the shift changes the path, not the equilibrium found. Steps that do
-/// not reduce the residual are halved.
+/// with conjugate gradient (K is the energy's Hessian, symmetric for every spring law) and a
+/// Jacobi preconditioner from the exact diagonal. K gets a tiny diagonal shift (1e-10 of its mean
+/// diagonal) so that rigid or floppy modes left free by the constraints do not stall the Krylov
+/// solver; because the residual is always evaluated exactly, the shift changes the path, not the
+/// equilibrium found. Steps that do not reduce the residual are halved.
 ///
 /// Preconditions: positions has model.num_nodes() columns and holds the initial guess, with the
 /// fixed DOFs at their prescribed values (they are not changed); external_forces is 3 x N;
