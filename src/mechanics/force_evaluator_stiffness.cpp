@@ -114,34 +114,41 @@ void ForceEvaluator::LinearizePerSpring(const Eigen::Matrix3Xd& positions,
 }
 
 void ForceEvaluator::RoundLinearization() {
-  // Per spring in schedule order: k, inflow a and b, outflow a and b (once), then u and T / L.
+  // Per slot of the float schedule: k, inflow a and b, outflow a and b (once), then u and T / L,
+  // each scattered from the double schedule's order; a phantom's stay zero.
   const ScheduledSprings springs = runs_.springs->View();
+  const std::vector<int>& slots = single_loops_.springs->scheduled_slots;
   const Eigen::Index count = model_->num_springs();
-  if (single_loops_.stiffness.size() != 9 * count) {
-    single_loops_.stiffness.resize(9 * count);
+  const Eigen::Index num_slots = single_loops_.springs->num_slots();
+  if (single_loops_.stiffness.size() != 9 * num_slots) {
+    single_loops_.stiffness.setZero(9 * num_slots);
     const double* fixed[5] = {springs.stiffness, springs.inflow_a, springs.inflow_b,
                               springs.outflow_a, springs.outflow_b};
     for (int block = 0; block < 5; ++block) {
       for (Eigen::Index s = 0; s < count; ++s) {
-        single_loops_.stiffness[block * count + s] = static_cast<float>(fixed[block][s]);
+        single_loops_.stiffness[block * num_slots + slots[s]] = static_cast<float>(fixed[block][s]);
       }
     }
   }
-  single_loops_.stiffness.tail(4 * count) = runs_.linearization.cast<float>();
+  for (int block = 5; block < 9; ++block) {
+    const double* from = runs_.linearization.data() + (block - 5) * count;
+    float* to = single_loops_.stiffness.data() + block * num_slots;
+    for (Eigen::Index s = 0; s < count; ++s) to[slots[s]] = static_cast<float>(from[s]);
+  }
 }
 
 void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
                                               Eigen::Matrix3Xd* out) const {
   const Eigen::Index n = model_->num_nodes();
-  const Eigen::Index count = model_->num_springs();
-  const std::vector<SpringRun>& runs = runs_.springs->schedule.runs;
+  const Eigen::Index slots = single_loops_.springs->num_slots();
+  const std::vector<SingleRun>& runs = single_loops_.springs->runs;
   // As the force loops: up to max_threads shares for 1,000 nodes or more. Each share takes a
-  // contiguous part of the runs (about equal in springs) and sums into its own K dv and dJ,
-  // added in share order: the sums depend on the thread count only.
+  // contiguous part of the float schedule's runs (about equal in slots) and sums into its own K dv
+  // and dJ, added in share order: the sums depend on the thread count only.
   const int shares = plan_->NodeShareCount();
   std::vector<int> first_run(shares + 1, static_cast<int>(runs.size()));
   for (int t = 0, r = 0, taken = 0; t < shares; ++t) {
-    for (; r < static_cast<int>(runs.size()) && taken < count * t / shares; ++r) {
+    for (; r < static_cast<int>(runs.size()) && taken < slots * t / shares; ++r) {
       taken += runs[r].count;
     }
     first_run[t] = r;
@@ -156,10 +163,10 @@ void ForceEvaluator::ApplySingleStiffnessRuns(const Eigen::Matrix3Xd& v,
   ToSingleNodeArrays(v.data(), n, 0, n, zero, dv);
   const float* data = single_loops_.stiffness.data();
   const SingleScheduledStiffness springs{runs.data(),      data,
-                                         data + count,     data + 2 * count,
-                                         data + 3 * count, data + 4 * count,
-                                         data + 5 * count, data + 6 * count,
-                                         data + 7 * count, data + 8 * count};
+                                         data + slots,     data + 2 * slots,
+                                         data + 3 * slots, data + 4 * slots,
+                                         data + 5 * slots, data + 6 * slots,
+                                         data + 7 * slots, data + 8 * slots};
   const bool disperse = model_->dispersion_fraction() != 0.0;
   internal::SharePlan::Run(shares, [&](int t) {
     float* product = part(t);

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "mechanics/single_precision_kernels.h"
 #include "mechanics/spring_schedule.h"
 
 namespace msm_sim::core {
@@ -91,11 +92,12 @@ void DispersedStiffnessRuns(const ScheduledSprings& springs, int run_begin, int 
                             const ScheduledLinearization& linearization, const double* dg,
                             const MutableNodeArrays& out_a, const MutableNodeArrays& out_b);
 
-/// The stiffness product's per-spring data in single precision, in the order of the (double)
-/// schedule's runs: the springs' k and eMSM coefficients, and a linearisation's u and T / L, all
-/// rounded from the double ones (ForceEvaluator with SpringPrecision::kSingle).
+/// The stiffness product's per-slot data in single precision, along the float schedule's runs
+/// (SinglePrecisionSprings, phantoms zero): the springs' k and eMSM coefficients, and a
+/// linearisation's u and T / L, all rounded from the double ones (ForceEvaluator with
+/// SpringPrecision::kSingle).
 struct SingleScheduledStiffness {
-  const SpringRun* runs;
+  const SingleRun* runs;
   const float* stiffness;
   const float* inflow_a;
   const float* inflow_b;

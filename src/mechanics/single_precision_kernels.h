@@ -45,6 +45,9 @@ struct SinglePrecisionSprings {
   /// outflow times q (L - L0), so one array per end serves both passes, q applied per node
   /// (SingleDispersion); the first pass then reads three arrays per slot instead of four.
   CacheLineFloats rest, stiffness, outflow_a, outflow_b;
+  /// The slot of each spring of the double schedule (SpringSchedule order), for per-spring data
+  /// kept in slot order elsewhere (the stiffness product's, ForceEvaluator::RoundLinearization).
+  std::vector<int> scheduled_slots;
   /// Slots that are no spring of the model: the phantoms, and the unused slots before a run.
   int num_phantoms = 0;
   /// The largest offset of a run: the longest overflow of a share (SingleShare).

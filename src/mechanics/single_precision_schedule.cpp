@@ -65,6 +65,7 @@ std::shared_ptr<const SinglePrecisionSprings> SinglePrecisionSprings::Schedule(c
     for (int i = 0; i < row.count; ++i) {
       AddSpring(model, sorted.model_index[row.first + i], sorted.swapped[row.first + i], row.a0 + i,
                 row.offset, &out);
+      out.scheduled_slots.push_back(out.num_slots() - 1);
     }
   }
   out.num_nodes = model.num_nodes();

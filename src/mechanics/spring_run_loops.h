@@ -192,15 +192,16 @@ inline __attribute__((always_inline)) void DispersedStiffnessRun(
 /// the linearisation (u, T / L) in schedule order; dv as x, y, z arrays. Each spring's part goes
 /// to its a end in `out_a` and to its b end in `out_b` (the caller sums the two), so that one
 /// loop takes both ends at any offset; likewise the accumulators' change inflow k u.d(dv) to
-/// `change_a` and `change_b` (null: no dispersion).
-template <typename Real>
+/// `change_a` and `change_b` (null: no dispersion). Run: the double schedule's SpringRun, or the
+/// float schedule's SingleRun over its slots (a phantom's zero k, u and T / L add nothing).
+template <typename Real, typename Run>
 inline __attribute__((always_inline)) void StiffnessRunsOf(
-    const SpringRun* runs, int run_begin, int run_end, const Real* stiffness, const Real* inflow_a,
+    const Run* runs, int run_begin, int run_end, const Real* stiffness, const Real* inflow_a,
     const Real* inflow_b, const Real* ux, const Real* uy, const Real* uz, const Real* geometric,
     const Real* const dv[3], Real* const out_a[3], Real* const out_b[3], Real* change_a,
     Real* change_b) {
   for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = runs[r];
+    const Run& run = runs[r];
     const int f = run.first, a0 = run.a0, b0 = run.a0 + run.offset;
     if (change_a == nullptr) {
       StiffnessRun<Real, false>(run.count, run.offset, stiffness + f, nullptr, nullptr, ux + f,
@@ -217,13 +218,13 @@ inline __attribute__((always_inline)) void StiffnessRunsOf(
 }
 
 /// The dispersed part, in Real: dg per node; ends as in StiffnessRunsOf.
-template <typename Real>
+template <typename Real, typename Run>
 inline __attribute__((always_inline)) void DispersedStiffnessRunsOf(
-    const SpringRun* runs, int run_begin, int run_end, const Real* outflow_a, const Real* outflow_b,
+    const Run* runs, int run_begin, int run_end, const Real* outflow_a, const Real* outflow_b,
     const Real* ux, const Real* uy, const Real* uz, const Real* dg, Real* const out_a[3],
     Real* const out_b[3]) {
   for (int r = run_begin; r < run_end; ++r) {
-    const SpringRun& run = runs[r];
+    const Run& run = runs[r];
     const int f = run.first, a0 = run.a0, b0 = run.a0 + run.offset;
     DispersedStiffnessRun<Real>(run.count, run.offset, outflow_a + f, outflow_b + f, ux + f, uy + f,
                                 uz + f, dg + a0, out_a[0] + a0, out_a[1] + a0, out_a[2] + a0,

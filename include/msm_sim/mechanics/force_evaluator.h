@@ -254,9 +254,9 @@ class ForceEvaluator {
     // The stage pipeline with its float node arrays (single_pipeline.h).
     internal::Copied<internal::SinglePasses> passes;
     const internal::NodeStages* stages = nullptr;  // during NodeShares::SetForces
-    // The stiffness product, per spring in schedule order: k, inflow a and b, outflow a and b,
-    // then the linearisation's ux, uy, uz and T / L (RoundLinearization); and its scratch: dv
-    // and K dv as x, y, z blocks of N, then dJ (N).
+    // The stiffness product, per slot of `springs` (phantoms zero): k, inflow a and b, outflow a
+    // and b, then the linearisation's ux, uy, uz and T / L (RoundLinearization); and its scratch:
+    // dv and K dv as x, y, z blocks of N, then dJ (N).
     Eigen::VectorXf stiffness;
     mutable Eigen::VectorXf stiffness_arrays;
   };
