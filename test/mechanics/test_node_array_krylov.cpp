@@ -96,6 +96,54 @@ TEST(MaskedPcg, MatchesADenseSolveWithFixedDofsMovedToTheRightHandSide) {
   for (int k = 0; k < 12; ++k) EXPECT_NEAR(residual.data()[k], full[k], 1e-9);
 }
 
+// A contact's projection (a node's velocity change along a unit normal held) solves A x = b on
+// the range of S, the diagonal preconditioner's fused sweep and the generic one (S D^-1 S as a
+// function) alike: against a dense solve in a basis of that range.
+TEST(MaskedPcg, ContactNormalsHoldTheirComponentAndMatchADenseSolve) {
+  const Eigen::MatrixXd a = TinySpdMatrix();
+  Eigen::Matrix3Xd b(3, 4);
+  b << 1.0, -2.0, 0.5, 3.0, 0.0, 1.5, -1.0, 2.0, 4.0, -0.5, 1.0, 0.25;
+  DofProjection projection;
+  projection.free = Eigen::Matrix3Xd::Ones(3, 4);
+  projection.free.col(3).setZero();
+  const Eigen::Vector3d normal = Eigen::Vector3d(1.0, 2.0, -2.0) / 3.0;
+  projection.normals.push_back({2, normal});
+  Eigen::Matrix3Xd start = Eigen::Matrix3Xd::Zero(3, 4);
+  start.col(2) = 0.7 * normal;
+  start.col(3) = Eigen::Vector3d(0.2, -0.1, 0.3);
+  // A basis of the range of S (node 2's plane, nodes 0 and 1 whole), then the dense solve of
+  // B^T A B y = B^T (b - A x0).
+  Eigen::MatrixXd basis = Eigen::MatrixXd::Zero(12, 8);
+  for (int k = 0; k < 6; ++k) basis(k, k) = 1.0;
+  const Eigen::Vector3d t1 = normal.unitOrthogonal(), t2 = normal.cross(t1);
+  basis.block<3, 1>(6, 6) = t1;
+  basis.block<3, 1>(6, 7) = t2;
+  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(start.data(), 12);
+  const Eigen::VectorXd rhs = Eigen::Map<const Eigen::VectorXd>(b.data(), 12) - a * x0;
+  const Eigen::VectorXd y = (basis.transpose() * a * basis).ldlt().solve(basis.transpose() * rhs);
+  const Eigen::VectorXd expected = x0 + basis * y;
+
+  const Eigen::Matrix3Xd inverse_diagonal = InverseDiagonal(a);
+  const NodeArrayPreconditioner generic = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z) {
+    *z = inverse_diagonal.cwiseProduct(r);
+    projection.ApplyNormals(z);
+  };
+  MaskedPcgOptions options;
+  options.relative_tolerance = 1e-12;
+  options.max_iterations = 100;
+  Eigen::Matrix3Xd fused = start, plain = start, residual;
+  ASSERT_TRUE(
+      SolveMaskedPcg(DenseOperator(a), b, projection, inverse_diagonal, options, &fused, &residual)
+          .converged);
+  ASSERT_TRUE(SolveMaskedPcg(DenseOperator(a), b, projection, generic, options, &plain, &residual)
+                  .converged);
+  for (int k = 0; k < 12; ++k) {
+    EXPECT_NEAR(fused.data()[k], expected[k], 1e-9) << k;
+    EXPECT_NEAR(plain.data()[k], expected[k], 1e-9) << k;
+  }
+  EXPECT_NEAR(fused.col(2).dot(normal), 0.7, 1e-12);
+}
+
 TEST(MaskedPcg, WarmStartAtTheSolutionTakesNoIteration) {
   const Eigen::MatrixXd a = TinySpdMatrix();
   const Eigen::VectorXd solution = Eigen::VectorXd::LinSpaced(12, -1.0, 2.0);
