@@ -15,28 +15,15 @@ struct Advanced {
   double rz;
 };
 
-// The update after the product A p: x += alpha p, residual -= alpha A p, r = S residual, z = B r,
-// with |r|^2 and r . z (any preconditioner B, one pass per step).
+// The update after the product A p, in one sweep over the DOFs: x += alpha p, residual -=
+// alpha A p, r = S residual, z = S D^-1 S r, with |r|^2 and r . z. The few nodes S projects onto
+// a contact's plane are corrected after the sweep and only then summed: `summed` is `free` with
+// their DOFs zero (a held normal's residual is the contact's force, which the sum must never see,
+// or taking it out again would cancel the small rest).
 Advanced Advance(double alpha, const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& product,
-                 const DofProjection& projection, const NodeArrayPreconditioner& precondition,
-                 Eigen::Matrix3Xd* x, Eigen::Matrix3Xd* residual, Eigen::Matrix3Xd* r,
-                 Eigen::Matrix3Xd* z) {
-  *x += alpha * p;
-  *residual -= alpha * product;
-  *r = projection.free.cwiseProduct(*residual);
-  projection.ApplyNormals(r);
-  precondition(*r, z);
-  return {r->squaredNorm(), Dot(*r, *z)};
-}
-
-// The same for the diagonal B = S D^-1 S in one sweep over the DOFs; the few nodes S projects
-// onto a contact's plane are then corrected and only then summed: `summed` is `free` with their
-// DOFs zero (a held normal's residual is the contact's force, which the sum must never see, or
-// taking it out again would cancel the small rest).
-Advanced AdvanceDiagonal(double alpha, const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& product,
-                         const DofProjection& projection, const Eigen::Matrix3Xd& summed,
-                         const Eigen::Matrix3Xd& inverse_diagonal, Eigen::Matrix3Xd* x,
-                         Eigen::Matrix3Xd* residual, Eigen::Matrix3Xd* r, Eigen::Matrix3Xd* z) {
+                 const DofProjection& projection, const Eigen::Matrix3Xd& summed,
+                 const Eigen::Matrix3Xd& inverse_diagonal, Eigen::Matrix3Xd* x,
+                 Eigen::Matrix3Xd* residual, Eigen::Matrix3Xd* r, Eigen::Matrix3Xd* z) {
   const Eigen::Index size = p.size();
   const double* __restrict free = projection.free.data();
   const double* __restrict counted = summed.data();
@@ -71,54 +58,6 @@ Advanced AdvanceDiagonal(double alpha, const Eigen::Matrix3Xd& p, const Eigen::M
   return {r_squared, rz};
 }
 
-// The masked PCG loop, `advance` doing each iteration's update after A p (Advance's contract).
-template <class AdvanceStep>
-MaskedPcgReport SolveWith(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
-                          const DofProjection& projection,
-                          const NodeArrayPreconditioner& precondition,
-                          const MaskedPcgOptions& options, const AdvanceStep& advance,
-                          Eigen::Matrix3Xd* x, Eigen::Matrix3Xd* residual) {
-  MaskedPcgReport report;
-  Eigen::Matrix3Xd product(3, x->cols());
-  apply(*x, &product);
-  *residual = b - product;
-  Eigen::Matrix3Xd r = *residual;
-  projection.Apply(&r);
-  Eigen::Matrix3Xd free_b = b;
-  projection.Apply(&free_b);
-  const double reference = std::max({free_b.norm(), r.norm(), options.reference_norm});
-  const double threshold = options.relative_tolerance * reference;
-  double r_norm = r.norm();
-  Eigen::Matrix3Xd z;
-  precondition(r, &z);
-  Eigen::Matrix3Xd p = z;
-  double rz = Dot(r, z);
-  const double early_threshold = options.early_relative_tolerance * reference;
-  bool accepted_early = false;
-  const auto done = [&] {
-    if (r_norm <= threshold) return true;
-    accepted_early =
-        options.accept_early && r_norm <= early_threshold && options.accept_early(*x, r);
-    return accepted_early;
-  };
-  while (!done() && report.iterations < options.max_iterations) {
-    apply(p, &product);  // p is in the range of S, so S A p is A restricted to it
-    const double curvature = Dot(p, product);
-    if (!(curvature > 0.0)) break;  // A not positive along p (or not finite): give up
-    const double alpha = rz / curvature;
-    const Advanced next = advance(alpha, p, product, x, residual, &r, &z);
-    r_norm = std::sqrt(next.r_squared);
-    ++report.iterations;
-    // A preconditioner that is not positive on r (or not finite) would mislead CG: give up.
-    if (!(next.rz > 0.0)) break;
-    p = z + (next.rz / rz) * p;
-    rz = next.rz;
-  }
-  report.converged = r_norm <= threshold || accepted_early;
-  report.relative_residual = reference > 0.0 ? r_norm / reference : 0.0;
-  return report;
-}
-
 }  // namespace
 
 void DofProjection::Apply(Eigen::Matrix3Xd* a) const {
@@ -148,36 +87,52 @@ MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matr
                                const Eigen::Matrix3Xd& inverse_diagonal,
                                const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
                                Eigen::Matrix3Xd* residual) {
-  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range. The solve
-  // passes an r in that range, which D^-1 keeps free-masked: only the normals remain to apply.
-  const NodeArrayPreconditioner diagonal = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z) {
-    *z = inverse_diagonal.cwiseProduct(r);
-    projection.ApplyNormals(z);
-  };
+  MaskedPcgReport report;
+  Eigen::Matrix3Xd product(3, x->cols());
+  apply(*x, &product);
+  *residual = b - product;
+  Eigen::Matrix3Xd r = *residual;
+  projection.Apply(&r);
+  Eigen::Matrix3Xd free_b = b;
+  projection.Apply(&free_b);
+  const double reference = std::max({free_b.norm(), r.norm(), options.reference_norm});
+  const double threshold = options.relative_tolerance * reference;
+  double r_norm = r.norm();
+  // z = S D^-1 S r: symmetric, positive on the range of S, so CG stays in that range. r is in
+  // that range, which D^-1 keeps free-masked: only the normals remain to apply.
+  Eigen::Matrix3Xd z = inverse_diagonal.cwiseProduct(r);
+  projection.ApplyNormals(&z);
+  Eigen::Matrix3Xd p = z;
   Eigen::Matrix3Xd summed = projection.free;
   for (const DofProjection::NodeNormal& constraint : projection.normals) {
     summed.col(constraint.node).setZero();
   }
-  const auto advance = [&](double alpha, const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& product,
-                           Eigen::Matrix3Xd* solution, Eigen::Matrix3Xd* full, Eigen::Matrix3Xd* r,
-                           Eigen::Matrix3Xd* z) {
-    return AdvanceDiagonal(alpha, p, product, projection, summed, inverse_diagonal, solution, full,
-                           r, z);
+  double rz = Dot(r, z);
+  const double early_threshold = options.early_relative_tolerance * reference;
+  bool accepted_early = false;
+  const auto done = [&] {
+    if (r_norm <= threshold) return true;
+    accepted_early =
+        options.accept_early && r_norm <= early_threshold && options.accept_early(*x, r);
+    return accepted_early;
   };
-  return SolveWith(apply, b, projection, diagonal, options, advance, x, residual);
-}
-
-MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
-                               const DofProjection& projection,
-                               const NodeArrayPreconditioner& precondition,
-                               const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
-                               Eigen::Matrix3Xd* residual) {
-  const auto advance = [&](double alpha, const Eigen::Matrix3Xd& p, const Eigen::Matrix3Xd& product,
-                           Eigen::Matrix3Xd* solution, Eigen::Matrix3Xd* full, Eigen::Matrix3Xd* r,
-                           Eigen::Matrix3Xd* z) {
-    return Advance(alpha, p, product, projection, precondition, solution, full, r, z);
-  };
-  return SolveWith(apply, b, projection, precondition, options, advance, x, residual);
+  while (!done() && report.iterations < options.max_iterations) {
+    apply(p, &product);  // p is in the range of S, so S A p is A restricted to it
+    const double curvature = Dot(p, product);
+    if (!(curvature > 0.0)) break;  // A not positive along p (or not finite): give up
+    const double alpha = rz / curvature;
+    const Advanced next =
+        Advance(alpha, p, product, projection, summed, inverse_diagonal, x, residual, &r, &z);
+    r_norm = std::sqrt(next.r_squared);
+    ++report.iterations;
+    // A preconditioner that is not positive on r (or not finite) would mislead CG: give up.
+    if (!(next.rz > 0.0)) break;
+    p = z + (next.rz / rz) * p;
+    rz = next.rz;
+  }
+  report.converged = r_norm <= threshold || accepted_early;
+  report.relative_residual = reference > 0.0 ? r_norm / reference : 0.0;
+  return report;
 }
 
 }  // namespace msm_sim::core

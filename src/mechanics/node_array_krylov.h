@@ -51,19 +51,6 @@ struct DofProjection {
   void ApplyNormals(Eigen::Matrix3Xd* a) const;
 };
 
-/// z = B r for a preconditioner B, symmetric and positive on the range of the projection S of
-/// the solve, with z in that range (B = S D^-1 S for the diagonal one). A B found not positive
-/// (r . B r <= 0 for a non-zero r) ends the solve unconverged.
-using NodeArrayPreconditioner = std::function<void(const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z)>;
-
-/// SolveMaskedPcg below with a per-node projection and any preconditioner (preconditions as
-/// below, with "free DOFs" read as "the range of S").
-MaskedPcgReport SolveMaskedPcg(const NodeArrayOperator& apply, const Eigen::Matrix3Xd& b,
-                               const DofProjection& projection,
-                               const NodeArrayPreconditioner& precondition,
-                               const MaskedPcgOptions& options, Eigen::Matrix3Xd* x,
-                               Eigen::Matrix3Xd* residual);
-
 /// SolveMaskedPcg below with a per-node projection: the fixed part of *x (its component outside
 /// the range of S) is held at the value it comes in with, and *residual is b - A x on every DOF
 /// (its component outside the range of S is minus the constraint's impulse). Preconditions as

@@ -97,8 +97,8 @@ TEST(MaskedPcg, MatchesADenseSolveWithFixedDofsMovedToTheRightHandSide) {
 }
 
 // A contact's projection (a node's velocity change along a unit normal held) solves A x = b on
-// the range of S, the diagonal preconditioner's fused sweep and the generic one (S D^-1 S as a
-// function) alike: against a dense solve in a basis of that range.
+// the range of S, against a dense solve in a basis of that range; the held normal's residual (the
+// contact's force) does not enter the convergence test.
 TEST(MaskedPcg, ContactNormalsHoldTheirComponentAndMatchADenseSolve) {
   const Eigen::MatrixXd a = TinySpdMatrix();
   Eigen::Matrix3Xd b(3, 4);
@@ -124,24 +124,15 @@ TEST(MaskedPcg, ContactNormalsHoldTheirComponentAndMatchADenseSolve) {
   const Eigen::VectorXd expected = x0 + basis * y;
 
   const Eigen::Matrix3Xd inverse_diagonal = InverseDiagonal(a);
-  const NodeArrayPreconditioner generic = [&](const Eigen::Matrix3Xd& r, Eigen::Matrix3Xd* z) {
-    *z = inverse_diagonal.cwiseProduct(r);
-    projection.ApplyNormals(z);
-  };
   MaskedPcgOptions options;
   options.relative_tolerance = 1e-12;
   options.max_iterations = 100;
-  Eigen::Matrix3Xd fused = start, plain = start, residual;
+  Eigen::Matrix3Xd x = start, residual;
   ASSERT_TRUE(
-      SolveMaskedPcg(DenseOperator(a), b, projection, inverse_diagonal, options, &fused, &residual)
+      SolveMaskedPcg(DenseOperator(a), b, projection, inverse_diagonal, options, &x, &residual)
           .converged);
-  ASSERT_TRUE(SolveMaskedPcg(DenseOperator(a), b, projection, generic, options, &plain, &residual)
-                  .converged);
-  for (int k = 0; k < 12; ++k) {
-    EXPECT_NEAR(fused.data()[k], expected[k], 1e-9) << k;
-    EXPECT_NEAR(plain.data()[k], expected[k], 1e-9) << k;
-  }
-  EXPECT_NEAR(fused.col(2).dot(normal), 0.7, 1e-12);
+  for (int k = 0; k < 12; ++k) EXPECT_NEAR(x.data()[k], expected[k], 1e-9) << k;
+  EXPECT_NEAR(x.col(2).dot(normal), 0.7, 1e-12);
 }
 
 TEST(MaskedPcg, WarmStartAtTheSolutionTakesNoIteration) {
